@@ -1,0 +1,49 @@
+# The two commands of the README, for a fresh Debian 12 machine:
+#   make demo   installs what is missing, builds (Release), runs the built-in demo
+#   make test   installs what is missing, builds, runs every test through ctest
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev liblz4-dev libsqlite3-dev \
+            libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
+            libbenchmark-dev
+
+.PHONY: all deps build demo test bench docs format clean
+
+all: build
+
+# Installs only the Debian packages that are missing (idempotent; root or sudo).
+deps:
+	@missing=""; for package in $(PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$package 2>/dev/null | grep -q "install ok installed" \
+	    || missing="$$missing $$package"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "Installing Debian packages:$$missing"; \
+	  if [ "$$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq $$missing >/dev/null; \
+	fi
+
+build: deps
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DMEMLOOP_BUILD_TESTS=ON \
+	  -DMEMLOOP_BUILD_BENCHMARKS=ON >/dev/null
+	cmake --build $(BUILD_DIR) -j$(JOBS)
+
+demo: build
+	./$(BUILD_DIR)/memloop demo
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
+
+bench: build
+	bench/run_bench.sh
+
+# Regenerates docs/parameters.md from the parameter registry.
+docs: build
+	./$(BUILD_DIR)/memloop params --markdown > docs/parameters.md
+
+format:
+	clang-format -i $$(git ls-files '*.h' '*.cc')
+
+clean:
+	rm -rf $(BUILD_DIR)

@@ -1,0 +1,48 @@
+// memloop's detector: appearance-based loop closure detection under a time limit, with memory
+// management (Labbe & Michaud, "Memory Management for Real-Time Appearance-Based Loop Closure
+// Detection", IROS 2011). Give it images in acquisition order; each call says whether the image
+// closes a loop with a location seen before.
+//
+// Ownership and lifetime: the detector owns its memory and the LTM database file it creates; the
+// file stays after the detector is destroyed and then holds the whole map (the destructor stores
+// the locations of STM and WM too).
+// Threading: one thread calls Process(); an internal thread writes the LTM.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "memloop/options.h"
+#include "memloop/result.h"
+
+namespace memloop {
+
+class Detector {
+ public:
+  // Throws ParameterError for invalid options and DatabaseError when `database_path` cannot hold
+  // a new map (it must not exist or be empty; an existing file is never modified).
+  Detector(const Options& options, const std::string& database_path);
+  ~Detector();
+  Detector(const Detector&) = delete;
+  Detector& operator=(const Detector&) = delete;
+
+  // One iteration of the paper's Fig. 1 for an 8-bit gray or BGR image. `image_index` names the
+  // image in results and in the database (e.g. its position in a folder); by default the count of
+  // images processed so far. Throws InputError for an empty or unsupported image, nothing changed.
+  Result Process(const cv::Mat& image, ImageIndex image_index = kNoImage);
+
+  // Waits until everything transferred so far is committed to the database.
+  void Flush();
+  // Stores the STM and WM locations too and commits, so the file holds the whole map. Process()
+  // may not be called afterwards. The destructor calls it, but cannot report a failure.
+  void Close();
+  const Options& options() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace memloop

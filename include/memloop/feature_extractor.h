@@ -1,0 +1,35 @@
+// The feature plug-in: one pure-virtual work method and the metadata the dictionary needs.
+// Backends: features/sift_extractor.cc (OpenCV SIFT).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "memloop/options.h"
+
+namespace memloop {
+
+enum class DescriptorKind { kFloat };
+
+struct Features {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;  // one row per keypoint, CV_32F for kFloat
+};
+
+class FeatureExtractor {
+ public:
+  virtual ~FeatureExtractor() = default;
+  // Throws ParameterError naming features.type when the backend is unknown.
+  static std::unique_ptr<FeatureExtractor> Create(const FeatureOptions& options);
+
+  // `gray` is an 8-bit single-channel image. The result is deterministic: the same image gives
+  // the same keypoints and descriptors in the same order. Thread-compatible, not thread-safe.
+  virtual Features Extract(const cv::Mat& gray) const = 0;
+  virtual int DescriptorDim() const = 0;
+  virtual DescriptorKind Kind() const = 0;
+  virtual const char* Name() const = 0;
+};
+
+}  // namespace memloop

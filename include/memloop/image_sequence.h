@@ -1,0 +1,40 @@
+// Images in acquisition order from a folder (natural numeric order: 2.jpg before 10.jpg) or a
+// video file.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "memloop/types.h"
+
+namespace memloop {
+
+struct Frame {
+  ImageIndex index = kNoImage;  // position in the sequence, counting unreadable files too
+  std::string name;             // file name, or "frame N" of a video
+  cv::Mat image;                // empty when unreadable
+  std::string error;            // why it is unreadable ("" when readable)
+};
+
+class ImageSequence {
+ public:
+  virtual ~ImageSequence() = default;
+  // Throws InputError naming `path`: missing, an empty folder, a file that is not a video.
+  static std::unique_ptr<ImageSequence> Open(const std::string& path);
+
+  // The next frame; false at the end. An unreadable image gives a frame with `error` set, so the
+  // caller can warn, skip and count it.
+  virtual bool Next(Frame* frame) = 0;
+  // Number of frames, or -1 when unknown.
+  virtual int size() const = 0;
+};
+
+// "a2.jpg" < "a10.jpg": digit runs compare as numbers.
+bool NaturalLess(const std::string& a, const std::string& b);
+// The regular, non-hidden files of `folder`, in natural order (names only).
+std::vector<std::string> ListFolder(const std::string& folder);
+
+}  // namespace memloop

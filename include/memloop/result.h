@@ -1,0 +1,61 @@
+// What one call of Detector::Process reports: the loop-closure decision, the highest hypothesis
+// (also when below T_loop, so that precision-recall curves can be drawn), per-stage times and the
+// sizes of the memories.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "memloop/types.h"
+
+namespace memloop {
+
+// Wall time of each step of the per-image cycle (paper Fig. 1), in milliseconds.
+struct StageTimes {
+  double signature_ms = 0;   // features + quantization into words
+  double rehearsal_ms = 0;   // III-B
+  double likelihood_ms = 0;  // eq. 3-4
+  double filter_ms = 0;      // eq. 2 with the transition model
+  double selection_ms = 0;   // III-D
+  double retrieval_ms = 0;   // III-E
+  double transfer_ms = 0;    // III-F
+  double total_ms = 0;       // the whole iteration
+};
+
+struct Result {
+  // False until Process() has run (a default Result says so).
+  bool processed = false;
+  ImageIndex image_index = kNoImage;
+  // Location now standing for the image (after Rehearsal it may hold older images too).
+  LocationId location_id = kNoLocation;
+  // STM location merged into this one by Rehearsal, kNoLocation when none.
+  LocationId rehearsal_merged_id = kNoLocation;
+  int feature_count = 0;
+  int word_count = 0;  // words of the signature
+
+  // Highest neighbour-summed hypothesis (III-D), accepted or not. kNoLocation when WM is empty.
+  LocationId hypothesis_id = kNoLocation;
+  double hypothesis_value = 0;
+  // The posterior of the virtual place, p(S_t = -1 | L^t).
+  double virtual_place_probability = 1;
+
+  // The accepted loop closure, kNoLocation when none.
+  LocationId loop_closure_id = kNoLocation;
+  // Images of the matched location: the one that created it first.
+  std::vector<ImageIndex> loop_closure_images;
+
+  std::vector<LocationId> retrieved_ids;    // LTM -> WM this iteration
+  std::vector<LocationId> transferred_ids;  // WM -> LTM this iteration
+
+  int stm_size = 0;         // locations
+  int wm_size = 0;          // locations
+  int ltm_size = 0;         // locations
+  int dictionary_size = 0;  // words
+  StageTimes times;
+
+  bool HasLoopClosure() const { return loop_closure_id != kNoLocation; }
+  // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62".
+  std::string Brief() const;
+};
+
+}  // namespace memloop

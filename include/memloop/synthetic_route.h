@@ -1,0 +1,61 @@
+// The built-in demo and the integration tests' data: a camera moving along a procedurally
+// textured world that loops, so the route passes the same places again, with small changes of
+// viewpoint and exposure at every frame, and the exact ground truth of which frames show the
+// same place. Everything is generated from a seed: the same options give the same images.
+//
+// The route: a first lap of the loop, a detour through places seen once, a second lap, another
+// detour, then part of a third lap.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace memloop {
+
+struct SyntheticRouteOptions {
+  int seed = 7;
+  int image_width = 320;
+  int image_height = 240;
+  int lap_frames = 80;       // frames per lap of the loop
+  int detour_frames = 30;    // frames of each detour through places seen once
+  int third_lap_frames = 40; // frames of the third lap
+  double step_px = 160;      // camera motion between frames, in world pixels
+  // Two frames of different visits show the same place when their views are this close: 0.6 of
+  // the image width, i.e. views overlapping by at least 40%.
+  double same_place_fraction = 0.6;
+};
+
+class SyntheticRoute {
+ public:
+  explicit SyntheticRoute(const SyntheticRouteOptions& options = {});
+
+  int size() const { return static_cast<int>(frames_.size()); }
+  // Frame `index` (0-based), 8-bit BGR, image_width x image_height.
+  cv::Mat Render(int index) const;
+  // True when frame `query` shows the same place as the earlier frame `match`, seen on another
+  // visit (frames of one pass are neighbours, not loop closures).
+  bool IsLoop(int query, int match) const;
+  // Every (query, match) with match < query and IsLoop(query, match).
+  std::vector<std::pair<int, int>> GroundTruthPairs() const;
+  // Writes images/1.png .. images/N.png and ground_truth_pairs.csv ("query,match" file names)
+  // into `folder`, the layout of the data sets in ../shared/datasets.
+  void Write(const std::string& folder) const;
+
+ private:
+  struct Frame {
+    double x;   // world position of the view's left edge (loop coordinate when in_loop)
+    bool in_loop;
+    int visit;  // lap number, or -1 on the detour
+    double dx, dy, scale, angle_degrees, gain, bias;
+  };
+
+  SyntheticRouteOptions options_;
+  double loop_length_ = 0;
+  cv::Mat world_;  // [loop | first view widths of the loop again | detour], gray
+  std::vector<Frame> frames_;
+};
+
+}  // namespace memloop

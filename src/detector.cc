@@ -1,0 +1,255 @@
+#include "memloop/detector.h"
+
+#include <set>
+
+#include <opencv2/imgproc.hpp>
+
+#include "bayes_filter.h"
+#include "hypothesis.h"
+#include "likelihood.h"
+#include "long_term_memory.h"
+#include "memloop/errors.h"
+#include "memloop/feature_extractor.h"
+#include "memloop/params.h"
+#include "memory.h"
+#include "rehearsal.h"
+#include "retrieval.h"
+#include "stopwatch.h"
+#include "transfer.h"
+
+namespace memloop {
+namespace {
+
+cv::Mat ToGray(const cv::Mat& image) {
+  if (image.empty()) throw InputError("image", "empty image");
+  if (image.depth() != CV_8U) throw InputError("image", "not an 8-bit image");
+  cv::Mat gray;
+  switch (image.channels()) {
+    case 1: return image;
+    case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
+    case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
+    default: throw InputError("image", "unsupported number of channels");
+  }
+}
+
+const Options& Validated(const Options& options) {
+  ValidateOptions(options);
+  return options;
+}
+
+}  // namespace
+
+class Detector::Impl {
+ public:
+  Impl(const Options& options, const std::string& database_path)
+      : options_(Validated(options)),
+        extractor_(FeatureExtractor::Create(options.features)),
+        memory_(extractor_->DescriptorDim(), options.dictionary),
+        filter_(options.filter),
+        ltm_(database_path) {
+    for (const Parameter& parameter : Parameters()) {
+      ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
+    }
+  }
+
+  // The paper's Fig. 1, one call per box.
+  Result Process(const cv::Mat& image, ImageIndex image_index) {
+    if (closed_) throw Error("Detector::Process called after Close()");
+    const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
+    Stopwatch iteration;
+    Result result;
+    result.processed = true;
+    result.image_index = image_index == kNoImage ? images_processed_ : image_index;
+    ++images_processed_;
+    dictionary_size_at_start_ = memory_.dictionary().size();
+    retrieved_this_iteration_.clear();
+
+    const LocationId t = CreateLocation(gray, result);                         // III-A
+    Rehearse(t, result);                                                       // III-B, eq. 1
+    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                     // STM -> WM
+    const Likelihood likelihood = ComputeObservation(t, result);              // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);    // eq. 2
+    const Hypothesis hypothesis = SelectLoopClosure(t, neighbourhoods, result);  // III-D
+    RetrieveNeighbours(hypothesis, result);                                    // III-E
+    TransferToLtm(iteration, result);                                          // III-F
+    Summarize(t, iteration, result);
+    return result;
+  }
+
+  void Flush() { ltm_.Flush(); }
+
+  // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map.
+  void Close() {
+    if (closed_) return;
+    closed_ = true;
+    Dictionary& dictionary = memory_.dictionary();
+    std::set<WordId> words;
+    for (LocationId id : memory_.stm()) ltm_.Store(memory_.at(id));
+    for (LocationId id : memory_.working_memory()) ltm_.Store(memory_.at(id));
+    for (LocationId id : memory_.stm()) {
+      for (WordId word : memory_.at(id).signature.words) words.insert(word);
+    }
+    for (LocationId id : memory_.working_memory()) {
+      for (WordId word : memory_.at(id).signature.words) words.insert(word);
+    }
+    for (WordId word : words) {
+      const cv::Mat descriptor = dictionary.Descriptor(word);
+      ltm_.StoreWord(word, std::vector<float>(descriptor.begin<float>(), descriptor.end<float>()));
+    }
+    ltm_.Flush();
+  }
+
+  const Options& options() const { return options_; }
+
+ private:
+  LocationId CreateLocation(const cv::Mat& gray, Result& result) {
+    ScopedTimer timer(&result.times.signature_ms);
+    const Features features = extractor_->Extract(gray);
+    int new_words = 0;
+    Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    const Location& location =
+        memory_.AddToStm(std::move(signature), result.image_index, newest_location_);
+    newest_location_ = location.id;
+    result.feature_count = static_cast<int>(features.keypoints.size());
+    return location.id;
+  }
+
+  void Rehearse(LocationId t, Result& result) {
+    ScopedTimer timer(&result.times.rehearsal_ms);
+    const RehearsalOutcome outcome =
+        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_);
+    if (outcome.merged_id == kNoLocation) return;
+    ReleaseOrphanWords(outcome.orphan_words, memory_.dictionary(), ltm_);
+    ltm_.RedirectLocation(outcome.merged_id, t);  // LTM locations may link to L_c
+    for (auto& pending : pending_absorptions_) {
+      if (pending.second == outcome.merged_id) pending.second = t;
+    }
+    result.rehearsal_merged_id = outcome.merged_id;
+  }
+
+  Likelihood ComputeObservation(LocationId t, Result& result) {
+    ScopedTimer timer(&result.times.likelihood_ms);
+    return ComputeLikelihood(ScoreWorkingMemory(memory_.at(t).signature, memory_));
+  }
+
+  Neighbourhoods UpdateFilter(const Likelihood& likelihood, Result& result) {
+    ScopedTimer timer(&result.times.filter_ms);
+    Neighbourhoods neighbourhoods;
+    for (LocationId id : memory_.working_memory()) {
+      neighbourhoods[id] = memory_.WmNeighbourhood(id, options_.filter.neighbour_range);
+    }
+    filter_.Update(likelihood, neighbourhoods);
+    return neighbourhoods;
+  }
+
+  Hypothesis SelectLoopClosure(LocationId t, const Neighbourhoods& neighbourhoods,
+                               Result& result) {
+    ScopedTimer timer(&result.times.selection_ms);
+    const Hypothesis hypothesis =
+        SelectHypothesis(filter_.posterior(), neighbourhoods, options_.filter);
+    result.hypothesis_id = hypothesis.id;
+    result.hypothesis_value = hypothesis.value;
+    result.virtual_place_probability = filter_.virtual_place();
+    AbsorbPastMatches(hypothesis, neighbourhoods);
+    if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);
+    return hypothesis;
+  }
+
+  // III-D: L_t takes L_i's weight plus one and its neighbour links. L_i stays (its hypothesis
+  // keeps the filter consistent) until it leaves the highest hypothesis' neighbourhood.
+  void AcceptLoopClosure(LocationId t, const Hypothesis& hypothesis, Result& result) {
+    const LocationId i = hypothesis.id;
+    memory_.at(t).weight += memory_.at(i).weight + 1;
+    memory_.AddLinksOf(t, i, /*link_together=*/true);
+    pending_absorptions_.emplace_back(i, t);
+    result.loop_closure_id = i;
+    result.loop_closure_images = memory_.at(i).images;
+    ltm_.RecordLoopClosure(
+        {result.image_index, memory_.at(i).images.front(), t, i, hypothesis.value});
+  }
+
+  // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
+  // that matched them. One that left WM (transferred) or whose matcher did stays as it is.
+  void AbsorbPastMatches(const Hypothesis& hypothesis, const Neighbourhoods& neighbourhoods) {
+    std::set<LocationId> near_highest;
+    if (hypothesis.id != kNoLocation) {
+      for (const auto& entry : neighbourhoods.at(hypothesis.id)) near_highest.insert(entry.first);
+    }
+    std::vector<std::pair<LocationId, LocationId>> still_pending;
+    for (const auto& [old_id, survivor] : pending_absorptions_) {
+      if (!memory_.InWorkingMemory(old_id) || !memory_.Contains(survivor)) continue;
+      if (near_highest.count(old_id)) {
+        still_pending.emplace_back(old_id, survivor);
+        continue;
+      }
+      ReleaseOrphanWords(memory_.Absorb(survivor, old_id), memory_.dictionary(), ltm_);
+      ltm_.RedirectLocation(old_id, survivor);
+      filter_.Remove(old_id);
+    }
+    pending_absorptions_ = std::move(still_pending);
+  }
+
+  void RetrieveNeighbours(const Hypothesis& hypothesis, Result& result) {
+    ScopedTimer timer(&result.times.retrieval_ms);
+    const RetrievalOutcome outcome =
+        Retrieve(hypothesis.id, options_.memory.max_retrieved, options_.filter.neighbour_range,
+                 memory_, ltm_);
+    result.retrieved_ids = outcome.retrieved;
+    retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
+  }
+
+  void TransferToLtm(const Stopwatch& iteration, Result& result) {
+    ScopedTimer timer(&result.times.transfer_ms);
+    const double limit = options_.memory.time_limit_ms;
+    TransferTrigger trigger;
+    trigger.time_exceeded = limit > 0 && iteration.ElapsedMs() > limit;
+    trigger.max_wm_locations = options_.memory.max_wm_locations;
+    trigger.max_dictionary_words = options_.memory.max_dictionary_words;
+    trigger.dictionary_size_at_start = dictionary_size_at_start_;
+    result.transferred_ids =
+        Transfer(trigger, retrieved_this_iteration_, memory_, ltm_, filter_);
+  }
+
+  void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {
+    result.location_id = t;
+    result.word_count = memory_.at(t).signature.size();
+    result.stm_size = static_cast<int>(memory_.stm().size());
+    result.wm_size = static_cast<int>(memory_.working_memory().size());
+    result.ltm_size = static_cast<int>(ltm_.size());
+    result.dictionary_size = static_cast<int>(memory_.dictionary().size());
+    result.times.total_ms = iteration.ElapsedMs();
+  }
+
+  Options options_;
+  std::unique_ptr<FeatureExtractor> extractor_;
+  Memory memory_;
+  BayesFilter filter_;
+  LongTermMemory ltm_;
+  LocationId newest_location_ = kNoLocation;  // L_t-1 for the next image
+  ImageIndex images_processed_ = 0;
+  size_t dictionary_size_at_start_ = 0;
+  std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
+  std::vector<std::pair<LocationId, LocationId>> pending_absorptions_;  // (L_i, its matcher)
+  bool closed_ = false;
+};
+
+Detector::Detector(const Options& options, const std::string& database_path)
+    : impl_(std::make_unique<Impl>(options, database_path)) {}
+
+Detector::~Detector() {
+  try {
+    impl_->Close();
+  } catch (const std::exception&) {
+    // A destructor cannot report; Close() reports the same failure to callers that want it.
+  }
+}
+
+Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
+  return impl_->Process(image, image_index);
+}
+
+void Detector::Flush() { impl_->Flush(); }
+void Detector::Close() { impl_->Close(); }
+const Options& Detector::options() const { return impl_->options(); }
+
+}  // namespace memloop

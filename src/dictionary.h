@@ -1,0 +1,69 @@
+// The incremental visual dictionary (paper III-A): the words of the locations in STM and WM, a
+// kd-forest over their descriptors for quantization, and each word's references to the
+// locations that contain it (the inverted index used by the likelihood, eq. 3).
+#pragma once
+
+#include <map>
+#include <unordered_map>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "kd_forest.h"
+#include "memloop/options.h"
+#include "memloop/types.h"
+
+namespace memloop {
+
+class Dictionary {
+ public:
+  Dictionary(int descriptor_dim, const DictionaryOptions& options);
+
+  // For each row, the nearest word when it passes the nearest-neighbour distance ratio test
+  // (d1 < nndr_ratio * d2, true distances), else kNoWord. A lone word passes.
+  std::vector<WordId> Match(const cv::Mat& descriptors) const;
+
+  // Quantization of a new signature: Match(), then every row that matched nothing becomes a
+  // new word. New words are added after all rows are matched, so rows of one image never match
+  // each other. `new_word_count` receives how many words were created.
+  std::vector<WordId> Quantize(const cv::Mat& descriptors, int* new_word_count);
+
+  // Adds words under given ids (words retrieved from LTM keep theirs).
+  void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors);
+  // Removes a word; it must have no reference left.
+  void Remove(WordId id);
+
+  bool Contains(WordId id) const { return words_.count(id) > 0; }
+  // The word's descriptor as a 1-row matrix (a copy).
+  cv::Mat Descriptor(WordId id) const;
+  size_t size() const { return words_.size(); }
+  int descriptor_dim() const { return forest_.dim(); }
+  const KdForest& forest() const { return forest_; }
+
+  // References: how many times each location's signature holds the word.
+  void AddReference(WordId id, LocationId location);
+  // Drops all references of `location` to the word. True when the word has none left.
+  bool RemoveReferences(WordId id, LocationId location);
+  // location -> occurrences; empty map for unknown words.
+  const std::map<LocationId, int>& References(WordId id) const;
+
+  // A word is marked when a location of LTM refers to it: when it leaves the dictionary it must
+  // then be kept in LTM (paper III-F), otherwise it can be forgotten.
+  void MarkReferencedByLtm(WordId id);
+  bool IsReferencedByLtm(WordId id) const;
+
+  WordId next_word_id() const { return next_word_id_; }
+
+ private:
+  struct Word {
+    std::map<LocationId, int> references;
+    bool referenced_by_ltm = false;
+  };
+
+  DictionaryOptions options_;
+  KdForest forest_;
+  std::unordered_map<WordId, Word> words_;
+  WordId next_word_id_ = 1;
+};
+
+}  // namespace memloop

@@ -1,0 +1,128 @@
+#include "memloop/image_sequence.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FolderSequence : public ImageSequence {
+ public:
+  FolderSequence(std::string folder, std::vector<std::string> names)
+      : folder_(std::move(folder)), names_(std::move(names)) {}
+
+  bool Next(Frame* frame) override {
+    if (next_ >= names_.size()) return false;
+    frame->index = static_cast<ImageIndex>(next_);
+    frame->name = names_[next_++];
+    const std::string path = (fs::path(folder_) / frame->name).string();
+    frame->image = cv::Mat();
+    frame->error.clear();
+    try {
+      frame->image = cv::imread(path, cv::IMREAD_COLOR);
+    } catch (const cv::Exception& error) {
+      frame->error = error.what();
+    }
+    if (frame->image.empty() && frame->error.empty()) {
+      frame->error = "not a readable image (corrupt, truncated or not an image)";
+    }
+    return true;
+  }
+  int size() const override { return static_cast<int>(names_.size()); }
+
+ private:
+  std::string folder_;
+  std::vector<std::string> names_;
+  size_t next_ = 0;
+};
+
+class VideoSequence : public ImageSequence {
+ public:
+  explicit VideoSequence(const std::string& path) : capture_(path) {
+    if (!capture_.isOpened()) throw InputError(path, "cannot be opened as a video");
+    frame_count_ = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
+  }
+
+  bool Next(Frame* frame) override {
+    cv::Mat image;
+    if (!capture_.read(image) || image.empty()) return false;
+    frame->index = next_;
+    frame->name = "frame " + std::to_string(next_ + 1);
+    frame->image = image;
+    frame->error.clear();
+    ++next_;
+    return true;
+  }
+  int size() const override { return frame_count_ > 0 ? frame_count_ : -1; }
+
+ private:
+  cv::VideoCapture capture_;
+  int frame_count_ = -1;
+  ImageIndex next_ = 0;
+};
+
+}  // namespace
+
+bool NaturalLess(const std::string& a, const std::string& b) {
+  size_t i = 0;
+  size_t j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
+      size_t end_i = i;
+      size_t end_j = j;
+      while (end_i < a.size() && std::isdigit(static_cast<unsigned char>(a[end_i]))) ++end_i;
+      while (end_j < b.size() && std::isdigit(static_cast<unsigned char>(b[end_j]))) ++end_j;
+      std::string digits_a = a.substr(i, end_i - i);
+      std::string digits_b = b.substr(j, end_j - j);
+      digits_a.erase(0, std::min(digits_a.find_first_not_of('0'), digits_a.size() - 1));
+      digits_b.erase(0, std::min(digits_b.find_first_not_of('0'), digits_b.size() - 1));
+      if (digits_a.size() != digits_b.size()) return digits_a.size() < digits_b.size();
+      if (digits_a != digits_b) return digits_a < digits_b;
+      i = end_i;
+      j = end_j;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i;
+      ++j;
+    }
+  }
+  if (a.size() - i != b.size() - j) return a.size() - i < b.size() - j;
+  return a < b;  // equal up to leading zeros: any fixed order
+}
+
+std::vector<std::string> ListFolder(const std::string& folder) {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end;
+       entry.increment(error)) {
+    const std::string name = entry->path().filename().string();
+    if (name.empty() || name[0] == '.' || !entry->is_regular_file()) continue;
+    names.push_back(name);
+  }
+  if (error) throw InputError(folder, "cannot list the folder (" + error.message() + ")");
+  std::sort(names.begin(), names.end(), NaturalLess);
+  return names;
+}
+
+std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path) {
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error || !fs::exists(status)) throw InputError(path, "no such file or folder");
+  if (fs::is_directory(status)) {
+    std::vector<std::string> names = ListFolder(path);
+    if (names.empty()) throw InputError(path, "the folder holds no image");
+    return std::make_unique<FolderSequence>(path, std::move(names));
+  }
+  return std::make_unique<VideoSequence>(path);
+}
+
+}  // namespace memloop

@@ -1,0 +1,54 @@
+#include "likelihood.h"
+
+#include <cmath>
+#include <unordered_map>
+
+namespace memloop {
+
+std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory) {
+  std::unordered_map<LocationId, int> pairs;
+  for (const auto& [word, count] : z_t.Histogram()) {
+    for (const auto& [location, occurrences] : memory.dictionary().References(word)) {
+      if (memory.InWorkingMemory(location)) pairs[location] += std::min(count, occurrences);
+    }
+  }
+  std::map<LocationId, double> scores;
+  for (LocationId id : memory.working_memory()) {
+    const auto found = pairs.find(id);
+    scores[id] = found == pairs.end()
+                     ? 0.0
+                     : SimilarityFromPairs(found->second, z_t.size(), memory.at(id).signature.size());
+  }
+  return scores;
+}
+
+Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores) {
+  Likelihood likelihood;
+  likelihood.scores = scores;
+  double sum = 0;
+  int non_null = 0;
+  for (const auto& [id, score] : scores) {
+    if (score > 0) {
+      sum += score;
+      ++non_null;
+    }
+  }
+  if (non_null > 0) {
+    likelihood.mean = sum / non_null;
+    double squares = 0;
+    for (const auto& [id, score] : scores) {
+      if (score > 0) squares += (score - likelihood.mean) * (score - likelihood.mean);
+    }
+    likelihood.stddev = std::sqrt(squares / non_null);
+  }
+  const double mu = likelihood.mean;
+  const double sigma = likelihood.stddev;
+  for (const auto& [id, score] : scores) {
+    // Eq. 3. A non-null score with sigma = 0 equals mu, so (s - sigma) / mu = 1 too.
+    likelihood.values[id] = (score > 0 && score >= mu + sigma) ? (score - sigma) / mu : 1.0;
+  }
+  likelihood.virtual_place = (sigma > 0 ? mu / sigma : 1.0) + 1.0;  // eq. 4
+  return likelihood;
+}
+
+}  // namespace memloop

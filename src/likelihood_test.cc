@@ -1,0 +1,46 @@
+#include "likelihood.h"
+
+#include <gtest/gtest.h>
+
+#include "small_memory.h"
+
+namespace memloop {
+namespace {
+
+TEST(LikelihoodTest, Equations3And4ByHand) {
+  // Non-null scores 0.1, 0.5, 0.3: mu = 0.3, sigma = sqrt(0.08 / 3) = 0.1632993.
+  const Likelihood likelihood = ComputeLikelihood({{1, 0.1}, {2, 0.5}, {3, 0.0}, {4, 0.3}});
+  EXPECT_NEAR(likelihood.mean, 0.3, 1e-12);
+  EXPECT_NEAR(likelihood.stddev, 0.16329931618554522, 1e-12);
+  // Only s_2 = 0.5 >= mu + sigma = 0.463: (0.5 - sigma) / mu = 1.1223356.
+  EXPECT_NEAR(likelihood.values.at(2), 1.1223356127148494, 1e-12);
+  EXPECT_EQ(likelihood.values.at(1), 1.0);
+  EXPECT_EQ(likelihood.values.at(3), 1.0);
+  EXPECT_EQ(likelihood.values.at(4), 1.0);
+  EXPECT_NEAR(likelihood.virtual_place, 0.3 / 0.16329931618554522 + 1, 1e-12);  // 2.8371173
+}
+
+TEST(LikelihoodTest, NoSimilarLocationMakesTheVirtualPlaceLikely) {
+  const Likelihood likelihood = ComputeLikelihood({{1, 0.0}, {2, 0.0}});
+  EXPECT_EQ(likelihood.values.at(1), 1.0);
+  EXPECT_EQ(likelihood.values.at(2), 1.0);
+  EXPECT_EQ(likelihood.virtual_place, 2.0);
+}
+
+TEST(LikelihoodTest, ScoresOfWorkingMemoryAreEquation1) {
+  Memory memory(2, testing::SmallDictionaryOptions());
+  const auto ids = testing::AddChain(memory, {{1, 2, 3}, {3, 4}, {5, 6, 7, 8}, {1, 3, 4, 9}});
+  memory.MoveStmOverflowToWm(1);  // the last one stays in STM: it is L_t
+  const Signature& z_t = memory.at(ids[3]).signature;
+  const auto scores = ScoreWorkingMemory(z_t, memory);
+  ASSERT_EQ(scores.size(), 3u);
+  EXPECT_DOUBLE_EQ(scores.at(ids[0]), 2.0 / 4);  // {1, 3} of max(4, 3)
+  EXPECT_DOUBLE_EQ(scores.at(ids[1]), 2.0 / 4);  // {3, 4}
+  EXPECT_DOUBLE_EQ(scores.at(ids[2]), 0.0);
+  for (LocationId id : {ids[0], ids[1], ids[2]}) {
+    EXPECT_DOUBLE_EQ(scores.at(id), Similarity(z_t, memory.at(id).signature));
+  }
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,266 @@
+#include "ltm_database.h"
+
+#include <sys/stat.h>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+constexpr int kLinkNeighbour = 0;
+constexpr int kLinkLoopClosure = 1;
+
+bool FileHasContent(const std::string& path) {
+  struct stat info {};
+  return stat(path.c_str(), &info) == 0 && info.st_size > 0;
+}
+
+}  // namespace
+
+LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
+    : connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+                                              : SQLITE_OPEN_READWRITE) {
+  const bool existed = FileHasContent(path);
+  if (mode == Mode::kOpen && !existed) throw DatabaseError(path, "no memloop map in this file");
+  if (existed) CheckIdentity(mode);
+  // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
+  // committed transaction through a crash of the process (not of the OS, by design of WAL).
+  connection_.Execute("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
+                      "PRAGMA foreign_keys=OFF;");
+  if (!existed) CreateSchema();
+}
+
+void LtmDatabase::CheckIdentity(Mode mode) {
+  long long application_id = 0;
+  long long version = 0;
+  try {
+    SqliteStatement id_query(connection_, "PRAGMA application_id");
+    if (id_query.Step()) application_id = id_query.Int(0);
+    SqliteStatement version_query(connection_, "PRAGMA user_version");
+    if (version_query.Step()) version = version_query.Int(0);
+  } catch (const DatabaseError& error) {
+    throw DatabaseError(path(), std::string("not a memloop map (") +
+                                    sqlite3_errmsg(connection_.handle()) + ")");
+  }
+  if (application_id != kApplicationId) {
+    throw DatabaseError(path(), "not a memloop map (an SQLite database of another application)");
+  }
+  if (version > kFormatVersion) {
+    throw DatabaseError(path(), "map format " + std::to_string(version) +
+                                    " is newer than this memloop's (" +
+                                    std::to_string(kFormatVersion) + "): upgrade memloop");
+  }
+  SqliteStatement check(connection_, "PRAGMA quick_check");
+  const std::string verdict = check.Step() ? check.Text(0) : "no answer";
+  if (verdict != "ok") throw DatabaseError(path(), "the map is damaged (" + verdict + ")");
+  if (mode == Mode::kCreate) {
+    throw DatabaseError(path(), "already holds a memloop map; a run starts a new map, so choose "
+                                "another --db path (the existing map is left untouched)");
+  }
+}
+
+void LtmDatabase::CreateSchema() {
+  connection_.Execute(
+      "BEGIN;"
+      "PRAGMA application_id=" + std::to_string(kApplicationId) + ";"
+      "PRAGMA user_version=" + std::to_string(kFormatVersion) + ";"
+      "CREATE TABLE info(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+      "CREATE TABLE locations(id INTEGER PRIMARY KEY, weight INTEGER NOT NULL);"
+      "CREATE TABLE location_images(location_id INTEGER NOT NULL, rank INTEGER NOT NULL,"
+      " image INTEGER NOT NULL, PRIMARY KEY(location_id, rank)) WITHOUT ROWID;"
+      "CREATE TABLE links(from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,"
+      " type INTEGER NOT NULL, PRIMARY KEY(from_id, to_id, type)) WITHOUT ROWID;"
+      "CREATE INDEX links_to ON links(to_id);"
+      "CREATE TABLE signature_words(location_id INTEGER NOT NULL, rank INTEGER NOT NULL,"
+      " word_id INTEGER NOT NULL, x REAL, y REAL, size REAL, angle REAL, response REAL,"
+      " octave INTEGER, PRIMARY KEY(location_id, rank)) WITHOUT ROWID;"
+      "CREATE INDEX signature_words_word ON signature_words(word_id);"
+      "CREATE TABLE words(id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
+      "CREATE TABLE loop_closures(query_image INTEGER NOT NULL, match_image INTEGER NOT NULL,"
+      " query_location INTEGER NOT NULL, match_location INTEGER NOT NULL, probability REAL);"
+      "COMMIT;");
+}
+
+SqliteStatement& LtmDatabase::Cached(const std::string& sql) {
+  for (auto& [text, statement] : statements_) {
+    if (text == sql) return *statement;
+  }
+  statements_.emplace_back(sql, std::make_unique<SqliteStatement>(connection_, sql));
+  return *statements_.back().second;
+}
+
+void LtmDatabase::Begin() { Cached("BEGIN").Run(); }
+void LtmDatabase::Commit() { Cached("COMMIT").Run(); }
+
+void LtmDatabase::WriteLocation(const Location& location) {
+  const long long id = location.id;
+  for (const char* sql : {"DELETE FROM locations WHERE id=?", "DELETE FROM links WHERE from_id=?",
+                          "DELETE FROM location_images WHERE location_id=?",
+                          "DELETE FROM signature_words WHERE location_id=?"}) {
+    Cached(sql).Bind(1, id).Run();
+  }
+  Cached("INSERT INTO locations(id, weight) VALUES(?,?)")
+      .Bind(1, id)
+      .Bind(2, static_cast<long long>(location.weight))
+      .Run();
+  auto& link = Cached("INSERT OR IGNORE INTO links(from_id, to_id, type) VALUES(?,?,?)");
+  for (LocationId to : location.neighbours) {
+    link.Bind(1, id).Bind(2, static_cast<long long>(to)).Bind(3, 0LL + kLinkNeighbour).Run();
+  }
+  for (LocationId to : location.loop_closures) {
+    link.Bind(1, id).Bind(2, static_cast<long long>(to)).Bind(3, 0LL + kLinkLoopClosure).Run();
+  }
+  auto& image = Cached("INSERT INTO location_images(location_id, rank, image) VALUES(?,?,?)");
+  for (size_t rank = 0; rank < location.images.size(); ++rank) {
+    image.Bind(1, id).Bind(2, static_cast<long long>(rank))
+        .Bind(3, static_cast<long long>(location.images[rank])).Run();
+  }
+  auto& word = Cached(
+      "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
+      " octave) VALUES(?,?,?,?,?,?,?,?,?)");
+  const Signature& signature = location.signature;
+  for (size_t rank = 0; rank < signature.words.size(); ++rank) {
+    const cv::KeyPoint& keypoint = signature.keypoints[rank];
+    word.Bind(1, id).Bind(2, static_cast<long long>(rank))
+        .Bind(3, static_cast<long long>(signature.words[rank]))
+        .Bind(4, double{keypoint.pt.x}).Bind(5, double{keypoint.pt.y})
+        .Bind(6, double{keypoint.size}).Bind(7, double{keypoint.angle})
+        .Bind(8, double{keypoint.response}).Bind(9, static_cast<long long>(keypoint.octave))
+        .Run();
+  }
+}
+
+void LtmDatabase::WriteWord(WordId id, const std::vector<float>& descriptor) {
+  Cached("INSERT OR REPLACE INTO words(id, descriptor) VALUES(?,?)")
+      .Bind(1, static_cast<long long>(id))
+      .BindBlob(2, descriptor.data(), static_cast<int>(descriptor.size() * sizeof(float)))
+      .Run();
+}
+
+void LtmDatabase::ReplaceWord(WordId old_id, WordId new_id) {
+  Cached("UPDATE signature_words SET word_id=? WHERE word_id=?")
+      .Bind(1, static_cast<long long>(new_id)).Bind(2, static_cast<long long>(old_id)).Run();
+  Cached("DELETE FROM words WHERE id=?").Bind(1, static_cast<long long>(old_id)).Run();
+}
+
+void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
+  Cached("UPDATE OR IGNORE links SET to_id=? WHERE to_id=?")
+      .Bind(1, static_cast<long long>(survivor)).Bind(2, static_cast<long long>(absorbed)).Run();
+  for (const char* sql : {"DELETE FROM links WHERE to_id=? OR from_id=?1",
+                          "DELETE FROM locations WHERE id=?",
+                          "DELETE FROM location_images WHERE location_id=?",
+                          "DELETE FROM signature_words WHERE location_id=?"}) {
+    Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
+  }
+  // A survivor linked to itself through the redirection keeps no such link.
+  Cached("DELETE FROM links WHERE from_id=? AND to_id=?1")
+      .Bind(1, static_cast<long long>(survivor)).Run();
+}
+
+void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
+  Cached("INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"
+         " probability) VALUES(?,?,?,?,?)")
+      .Bind(1, static_cast<long long>(record.query_image))
+      .Bind(2, static_cast<long long>(record.match_image))
+      .Bind(3, static_cast<long long>(record.query_location))
+      .Bind(4, static_cast<long long>(record.match_location))
+      .Bind(5, record.probability)
+      .Run();
+}
+
+void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
+  Cached("INSERT OR REPLACE INTO info(key, value) VALUES(?,?)").Bind(1, key).Bind(2, value).Run();
+}
+
+std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
+  auto& row = Cached("SELECT weight FROM locations WHERE id=?");
+  row.Bind(1, static_cast<long long>(id));
+  if (!row.Step()) {
+    row.Reset();
+    return std::nullopt;
+  }
+  Location location;
+  location.id = id;
+  location.weight = static_cast<int>(row.Int(0));
+  row.Reset();
+  auto& links = Cached("SELECT to_id, type FROM links WHERE from_id=? ORDER BY to_id");
+  links.Bind(1, static_cast<long long>(id));
+  while (links.Step()) {
+    auto& set = links.Int(1) == kLinkNeighbour ? location.neighbours : location.loop_closures;
+    set.insert(static_cast<LocationId>(links.Int(0)));
+  }
+  links.Reset();
+  auto& images = Cached("SELECT image FROM location_images WHERE location_id=? ORDER BY rank");
+  images.Bind(1, static_cast<long long>(id));
+  while (images.Step()) location.images.push_back(static_cast<ImageIndex>(images.Int(0)));
+  images.Reset();
+  auto& words = Cached(
+      "SELECT word_id, x, y, size, angle, response, octave FROM signature_words"
+      " WHERE location_id=? ORDER BY rank");
+  words.Bind(1, static_cast<long long>(id));
+  while (words.Step()) {
+    location.signature.words.push_back(static_cast<WordId>(words.Int(0)));
+    location.signature.keypoints.emplace_back(
+        cv::Point2f(static_cast<float>(words.Double(1)), static_cast<float>(words.Double(2))),
+        static_cast<float>(words.Double(3)), static_cast<float>(words.Double(4)),
+        static_cast<float>(words.Double(5)), static_cast<int>(words.Int(6)));
+  }
+  words.Reset();
+  return location;
+}
+
+std::optional<std::vector<float>> LtmDatabase::ReadWord(WordId id) {
+  auto& query = Cached("SELECT descriptor FROM words WHERE id=?");
+  query.Bind(1, static_cast<long long>(id));
+  std::optional<std::vector<float>> descriptor;
+  if (query.Step()) descriptor = query.FloatBlob(0);
+  query.Reset();
+  return descriptor;
+}
+
+std::vector<LocationId> LtmDatabase::ReadLinks(LocationId id) {
+  auto& query = Cached("SELECT DISTINCT to_id FROM links WHERE from_id=? ORDER BY to_id");
+  query.Bind(1, static_cast<long long>(id));
+  std::vector<LocationId> links;
+  while (query.Step()) links.push_back(static_cast<LocationId>(query.Int(0)));
+  query.Reset();
+  return links;
+}
+
+std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
+  auto& query = Cached(
+      "SELECT query_image, match_image, query_location, match_location, probability"
+      " FROM loop_closures ORDER BY rowid");
+  std::vector<LoopClosureRecord> records;
+  while (query.Step()) {
+    records.push_back({static_cast<ImageIndex>(query.Int(0)), static_cast<ImageIndex>(query.Int(1)),
+                       static_cast<LocationId>(query.Int(2)),
+                       static_cast<LocationId>(query.Int(3)), query.Double(4)});
+  }
+  query.Reset();
+  return records;
+}
+
+std::string LtmDatabase::ReadInfo(const std::string& key) {
+  auto& query = Cached("SELECT value FROM info WHERE key=?");
+  query.Bind(1, key);
+  const std::string value = query.Step() ? query.Text(0) : "";
+  query.Reset();
+  return value;
+}
+
+long long LtmDatabase::CountLocations() {
+  auto& query = Cached("SELECT count(*) FROM locations");
+  const long long count = query.Step() ? query.Int(0) : 0;
+  query.Reset();
+  return count;
+}
+
+long long LtmDatabase::CountWords() {
+  auto& query = Cached("SELECT count(*) FROM words");
+  const long long count = query.Step() ? query.Int(0) : 0;
+  query.Reset();
+  return count;
+}
+
+}  // namespace memloop

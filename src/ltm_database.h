@@ -1,0 +1,69 @@
+// The Long-Term Memory's SQLite file, one per map: locations with their signatures, links and
+// images, the words they refer to that left the dictionary (with descriptors), and every
+// accepted loop closure. Identified by PRAGMA application_id and versioned by user_version.
+// One object per connection and thread.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "location.h"
+#include "sqlite_statement.h"
+
+namespace memloop {
+
+struct LoopClosureRecord {
+  ImageIndex query_image = kNoImage;
+  ImageIndex match_image = kNoImage;
+  LocationId query_location = kNoLocation;
+  LocationId match_location = kNoLocation;
+  double probability = 0;
+};
+
+class LtmDatabase {
+ public:
+  static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
+  static constexpr int kFormatVersion = 1;
+
+  enum class Mode {
+    kCreate,  // a new map: the file must be absent or empty
+    kOpen,    // an existing memloop map, read and written
+  };
+  // Throws DatabaseError naming the file: not SQLite, not memloop's, newer format, damaged, or
+  // (kCreate) already holding a map. A refused file is never written to.
+  LtmDatabase(const std::string& path, Mode mode);
+
+  void Begin();
+  void Commit();
+
+  void WriteLocation(const Location& location);
+  void WriteWord(WordId id, const std::vector<float>& descriptor);
+  // Re-matched word (III-E): every reference to `old_id` becomes `new_id`; the old word goes.
+  void ReplaceWord(WordId old_id, WordId new_id);
+  // `absorbed` was merged into `survivor`: links to it now point to the survivor; its row goes.
+  void RedirectLocation(LocationId absorbed, LocationId survivor);
+  void WriteLoopClosure(const LoopClosureRecord& record);
+  void WriteInfo(const std::string& key, const std::string& value);
+
+  std::optional<Location> ReadLocation(LocationId id);
+  std::optional<std::vector<float>> ReadWord(WordId id);
+  std::vector<LocationId> ReadLinks(LocationId id);
+  std::vector<LoopClosureRecord> ReadLoopClosures();
+  std::string ReadInfo(const std::string& key);
+  long long CountLocations();
+  long long CountWords();
+
+  const std::string& path() const { return connection_.path(); }
+
+ private:
+  void CheckIdentity(Mode mode);
+  void CreateSchema();
+  SqliteStatement& Cached(const std::string& sql);
+
+  SqliteConnection connection_;
+  std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
+};
+
+}  // namespace memloop

@@ -1,0 +1,148 @@
+#include "memory.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace memloop {
+
+std::vector<LocationId> Location::Links() const {
+  std::vector<LocationId> links(neighbours.begin(), neighbours.end());
+  links.insert(links.end(), loop_closures.begin(), loop_closures.end());
+  std::sort(links.begin(), links.end());
+  links.erase(std::unique(links.begin(), links.end()), links.end());
+  return links;
+}
+
+Memory::Memory(int descriptor_dim, const DictionaryOptions& dictionary_options)
+    : dictionary_(descriptor_dim, dictionary_options) {}
+
+Location& Memory::AddToStm(Signature signature, ImageIndex image, LocationId previous) {
+  Location location;
+  location.id = next_id_++;
+  location.signature = std::move(signature);
+  location.images = {image};
+  if (previous != kNoLocation) {
+    location.neighbours.insert(previous);
+    if (Contains(previous)) at(previous).neighbours.insert(location.id);
+  }
+  ReferenceWords(location);
+  stm_.push_back(location.id);
+  return locations_[location.id] = std::move(location);
+}
+
+void Memory::MoveStmOverflowToWm(int stm_size) {
+  while (static_cast<int>(stm_.size()) > stm_size) {
+    working_memory_.insert(stm_.front());
+    stm_.pop_front();
+  }
+}
+
+std::vector<WordId> Memory::ReplaceSignature(LocationId id, Signature signature) {
+  Location& location = at(id);
+  std::vector<WordId> orphans = UnreferenceWords(location);
+  location.signature = std::move(signature);
+  ReferenceWords(location);
+  // A word of the old signature may be in the new one too.
+  orphans.erase(std::remove_if(orphans.begin(), orphans.end(),
+                               [&](WordId word) { return !dictionary_.References(word).empty(); }),
+                orphans.end());
+  return orphans;
+}
+
+void Memory::AddLinksOf(LocationId target, LocationId source, bool link_together) {
+  Location& to = at(target);
+  const Location& from = at(source);
+  for (LocationId id : from.neighbours) {
+    if (id == target) continue;
+    to.neighbours.insert(id);
+    if (Contains(id)) at(id).neighbours.insert(target);
+  }
+  for (LocationId id : from.loop_closures) {
+    if (id == target) continue;
+    to.loop_closures.insert(id);
+    if (Contains(id)) at(id).loop_closures.insert(target);
+  }
+  if (link_together) {
+    to.loop_closures.insert(source);
+    at(source).loop_closures.insert(target);
+  }
+}
+
+std::vector<WordId> Memory::Absorb(LocationId survivor, LocationId absorbed) {
+  AddLinksOf(survivor, absorbed, /*link_together=*/false);
+  Location& kept = at(survivor);
+  const Location& gone = at(absorbed);
+  kept.images.insert(kept.images.end(), gone.images.begin(), gone.images.end());
+  kept.neighbours.erase(absorbed);
+  kept.loop_closures.erase(absorbed);
+  std::vector<WordId> orphans = UnreferenceWords(gone);
+  Unlink(absorbed);
+  stm_.erase(std::remove(stm_.begin(), stm_.end(), absorbed), stm_.end());
+  working_memory_.erase(absorbed);
+  locations_.erase(absorbed);
+  return orphans;
+}
+
+Location Memory::Release(LocationId id, std::vector<WordId>* orphan_words) {
+  assert(InWorkingMemory(id));
+  Location location = std::move(at(id));
+  *orphan_words = UnreferenceWords(location);
+  working_memory_.erase(id);
+  locations_.erase(id);
+  return location;
+}
+
+void Memory::Restore(Location location) {
+  const LocationId id = location.id;
+  ReferenceWords(location);
+  // Locations in memory keep their links to LTM locations, so the graph is whole again.
+  for (LocationId link : location.neighbours) {
+    if (Contains(link)) at(link).neighbours.insert(id);
+  }
+  for (LocationId link : location.loop_closures) {
+    if (Contains(link)) at(link).loop_closures.insert(id);
+  }
+  working_memory_.insert(id);
+  locations_[id] = std::move(location);
+}
+
+std::vector<LocationId> Memory::LinksOf(LocationId id) const { return at(id).Links(); }
+
+Neighbourhood Memory::WmNeighbourhood(LocationId id, int range) const {
+  // Links through STM count too (a loop closure links an STM location to old ones), but only WM
+  // locations are states of the filter.
+  Neighbourhood in_memory = FindNeighbourhood(id, range, [this](LocationId node) {
+    std::vector<LocationId> links = LinksOf(node);
+    links.erase(std::remove_if(links.begin(), links.end(),
+                               [this](LocationId link) { return !Contains(link); }),
+                links.end());
+    return links;
+  });
+  Neighbourhood in_wm;
+  for (const auto& entry : in_memory) {
+    if (InWorkingMemory(entry.first)) in_wm.push_back(entry);
+  }
+  return in_wm;
+}
+
+void Memory::ReferenceWords(const Location& location) {
+  for (WordId word : location.signature.words) dictionary_.AddReference(word, location.id);
+}
+
+std::vector<WordId> Memory::UnreferenceWords(const Location& location) {
+  std::vector<WordId> orphans;
+  for (const auto& [word, count] : location.signature.Histogram()) {
+    if (dictionary_.RemoveReferences(word, location.id)) orphans.push_back(word);
+  }
+  return orphans;
+}
+
+void Memory::Unlink(LocationId id) {
+  for (LocationId link : at(id).Links()) {
+    if (!Contains(link)) continue;
+    at(link).neighbours.erase(id);
+    at(link).loop_closures.erase(id);
+  }
+}
+
+}  // namespace memloop

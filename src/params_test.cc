@@ -1,0 +1,83 @@
+#include "memloop/params.h"
+
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+std::string ErrorOf(const std::string& assignment) {
+  Options options;
+  try {
+    SetParameter(options, assignment);
+  } catch (const ParameterError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(ParamsTest, DefaultsAreThePapersAndValid) {
+  const Options options;
+  EXPECT_NO_THROW(ValidateOptions(options));
+  EXPECT_EQ(FindParameter("memory.stm_size")->Get(options), "25");
+  EXPECT_EQ(FindParameter("memory.rehearsal_threshold")->Get(options), "0.2");
+  EXPECT_EQ(FindParameter("filter.loop_threshold")->Get(options), "0.1");
+  EXPECT_EQ(FindParameter("filter.min_hypotheses")->Get(options), "15");
+  EXPECT_EQ(FindParameter("memory.max_retrieved")->Get(options), "2");
+  EXPECT_EQ(FindParameter("dictionary.kd_trees")->Get(options), "4");
+  EXPECT_EQ(FindParameter("dictionary.nndr_ratio")->Get(options), "0.8");
+}
+
+TEST(ParamsTest, EveryParameterIsDescribed) {
+  for (const Parameter& parameter : Parameters()) {
+    EXPECT_FALSE(parameter.description.empty()) << parameter.key;
+    EXPECT_TRUE(parameter.Check(Options()).empty()) << parameter.key;
+  }
+}
+
+TEST(ParamsTest, SetStoresTheValue) {
+  Options options;
+  SetParameter(options, "memory.stm_size=30");
+  SetParameter(options, "filter.loop_threshold=0.25");
+  EXPECT_EQ(options.memory.stm_size, 30);
+  EXPECT_DOUBLE_EQ(options.filter.loop_threshold, 0.25);
+}
+
+TEST(ParamsTest, BadAssignmentsAreRefusedWithTheReason) {
+  EXPECT_EQ(ErrorOf("memory.stm_size=-1"),
+            "Invalid parameter memory.stm_size = '-1': must be in [0, 100000]");
+  EXPECT_NE(ErrorOf("filter.loop_threshold=1.5").find("must be in [0, 1]"), std::string::npos);
+  EXPECT_NE(ErrorOf("dictionary.nndr_ratio=0").find("must be in (0, 1]"), std::string::npos);
+  EXPECT_NE(ErrorOf("memory.stm_size=2.5").find("not a whole number"), std::string::npos);
+  EXPECT_NE(ErrorOf("memory.stm_size=lots").find("not a number"), std::string::npos);
+  EXPECT_NE(ErrorOf("memory.stm_size=").find("not a number"), std::string::npos);
+  EXPECT_NE(ErrorOf("features.type=surfish").find("must be one of sift"), std::string::npos);
+  EXPECT_EQ(ErrorOf("memory.stm=3"), "Unknown parameter 'memory.stm' (see 'memloop params')");
+  EXPECT_NE(ErrorOf("stm_size").find("expected NAME=VALUE"), std::string::npos);
+}
+
+TEST(ParamsTest, ValidateFindsAnInvalidField) {
+  Options options;
+  options.memory.max_retrieved = -3;
+  try {
+    ValidateOptions(options);
+    FAIL();
+  } catch (const ParameterError& error) {
+    EXPECT_EQ(error.key(), "memory.max_retrieved");
+  }
+}
+
+TEST(ParamsTest, DocsAreGeneratedFromTheRegistry) {
+  std::ifstream file(std::string(MEMLOOP_SOURCE_DIR) + "/docs/parameters.md");
+  ASSERT_TRUE(file) << "docs/parameters.md is missing";
+  const std::string text(std::istreambuf_iterator<char>(file), {});
+  EXPECT_EQ(text, ParametersMarkdown())
+      << "regenerate: ./build/memloop params --markdown > docs/parameters.md";
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,24 @@
+#include "memloop/result.h"
+
+#include <cstdio>
+
+namespace memloop {
+
+std::string Result::Brief() const {
+  if (!processed) return "Detector::Process was not called.";
+  char text[256];
+  if (HasLoopClosure()) {
+    std::snprintf(text, sizeof(text),
+                  "image %d -> location %d: loop closure with location %d (image %d), p=%.3f",
+                  image_index, location_id, loop_closure_id,
+                  loop_closure_images.empty() ? kNoImage : loop_closure_images.front(),
+                  hypothesis_value);
+  } else {
+    std::snprintf(text, sizeof(text),
+                  "image %d -> location %d: no loop closure (highest hypothesis %d, p=%.3f)",
+                  image_index, location_id, hypothesis_id, hypothesis_value);
+  }
+  return text;
+}
+
+}  // namespace memloop

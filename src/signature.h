@@ -1,0 +1,38 @@
+// A signature z: the visual words of an image with the keypoint each came from (paper III-A).
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "memloop/types.h"
+
+namespace memloop {
+
+class Dictionary;
+struct Features;
+
+struct Signature {
+  std::vector<WordId> words;            // one per keypoint; a word may repeat
+  std::vector<cv::KeyPoint> keypoints;  // same order as words
+
+  int size() const { return static_cast<int>(words.size()); }
+  // (word, occurrences), sorted by word.
+  std::vector<std::pair<WordId, int>> Histogram() const;
+};
+
+// Quantizes the features into words of `dictionary`, creating words for descriptors that match
+// none (paper III-A). `new_word_count` receives how many were created.
+Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count);
+
+// N_pair: matched word pairs of two signatures. A word held m times by one and n times by the
+// other makes min(m, n) pairs (the paper leaves repeated words open; this keeps s <= 1).
+int CountWordPairs(const std::vector<std::pair<WordId, int>>& histogram_a,
+                   const std::vector<std::pair<WordId, int>>& histogram_b);
+
+// Eq. 1: s(z_t, z_c) = N_pair / max(N_zt, N_zc); 0 when both are empty.
+double SimilarityFromPairs(int pairs, int size_t_words, int size_c_words);
+double Similarity(const Signature& z_t, const Signature& z_c);
+
+}  // namespace memloop

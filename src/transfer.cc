@@ -1,0 +1,55 @@
+#include "transfer.h"
+
+#include <algorithm>
+
+namespace memloop {
+
+std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune) {
+  std::vector<LocationId> order;
+  for (LocationId id : memory.working_memory()) {
+    if (!immune.count(id)) order.push_back(id);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](LocationId a, LocationId b) {
+    return memory.at(a).weight < memory.at(b).weight;  // ids are sorted: ties keep oldest first
+  });
+  return order;
+}
+
+void ReleaseOrphanWords(const std::vector<WordId>& orphans, Dictionary& dictionary,
+                        LongTermMemory& ltm) {
+  for (WordId word : orphans) {
+    if (dictionary.IsReferencedByLtm(word)) {
+      const cv::Mat descriptor = dictionary.Descriptor(word);
+      ltm.StoreWord(word, std::vector<float>(descriptor.begin<float>(), descriptor.end<float>()));
+    }
+    dictionary.Remove(word);
+  }
+}
+
+std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
+                                 Memory& memory, LongTermMemory& ltm, BayesFilter& filter) {
+  const Dictionary& dictionary = memory.dictionary();
+  const auto over_budget = [&] {
+    return (trigger.max_wm_locations > 0 &&
+            static_cast<int>(memory.working_memory().size()) > trigger.max_wm_locations) ||
+           (trigger.max_dictionary_words > 0 &&
+            static_cast<int>(dictionary.size()) > trigger.max_dictionary_words);
+  };
+  std::vector<LocationId> transferred;
+  if (!trigger.time_exceeded && !over_budget()) return transferred;
+  for (LocationId id : TransferOrder(memory, immune)) {
+    const bool enough =
+        !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start;
+    if (enough && !transferred.empty()) break;
+    std::vector<WordId> orphans;
+    Location location = memory.Release(id, &orphans);
+    for (WordId word : location.signature.words) memory.dictionary().MarkReferencedByLtm(word);
+    ReleaseOrphanWords(orphans, memory.dictionary(), ltm);
+    ltm.Store(location);
+    filter.Remove(id);
+    transferred.push_back(id);
+  }
+  return transferred;
+}
+
+}  // namespace memloop

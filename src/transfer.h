@@ -1,0 +1,35 @@
+// Transfer (paper III-F): WM locations of lowest weight, then oldest, go to LTM until the
+// dictionary is no larger than at the start of the iteration ("the number of words transferred
+// ... is [not] less than the number of words added from the new or retrieved locations").
+#pragma once
+
+#include <set>
+#include <vector>
+
+#include "bayes_filter.h"
+#include "long_term_memory.h"
+#include "memory.h"
+
+namespace memloop {
+
+struct TransferTrigger {
+  bool time_exceeded = false;       // iteration time > T_time
+  int max_wm_locations = 0;         // deterministic budget, 0 = none
+  int max_dictionary_words = 0;     // deterministic budget, 0 = none
+  size_t dictionary_size_at_start = 0;
+};
+
+// WM locations in the order they would be transferred: lowest weight first, then oldest
+// (smallest id); `immune` ones (retrieved this iteration) never.
+std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune);
+
+// Transfers while the trigger holds (at least one location once triggered). Returns the ids.
+std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
+                                 Memory& memory, LongTermMemory& ltm, BayesFilter& filter);
+
+// Words no location in memory refers to leave the dictionary; those LTM locations refer to are
+// kept in LTM with their descriptors.
+void ReleaseOrphanWords(const std::vector<WordId>& orphans, Dictionary& dictionary,
+                        LongTermMemory& ltm);
+
+}  // namespace memloop

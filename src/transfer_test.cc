@@ -1,0 +1,82 @@
+#include "transfer.h"
+
+#include <gtest/gtest.h>
+
+#include "small_memory.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+class TransferTest : public ::testing::Test {
+ protected:
+  TransferTest() : memory_(2, testing::SmallDictionaryOptions()), ltm_(dir_.File("map.db")) {
+    // L1 {1, 2}, L2 {3, 4}, L3 {5, 6}, L4 {7, 1}: word 1 shared by L1 and L4.
+    ids_ = testing::AddChain(memory_, {{1, 2}, {3, 4}, {5, 6}, {7, 1}});
+    memory_.MoveStmOverflowToWm(0);
+    const int weights[] = {2, 0, 0, 1};
+    for (int i = 0; i < 4; ++i) memory_.at(ids_[i]).weight = weights[i];
+  }
+
+  testing::TempDir dir_;
+  Memory memory_;
+  LongTermMemory ltm_;
+  BayesFilter filter_{FilterOptions()};
+  std::vector<LocationId> ids_;
+};
+
+TEST_F(TransferTest, LowestWeightFirstThenOldestAndRetrievedAreImmune) {
+  EXPECT_EQ(TransferOrder(memory_, {}), (std::vector<LocationId>{ids_[1], ids_[2], ids_[3], ids_[0]}));
+  EXPECT_EQ(TransferOrder(memory_, {ids_[2]}), (std::vector<LocationId>{ids_[1], ids_[3], ids_[0]}));
+}
+
+TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  // 7 words now; "3 were added this iteration": transfer until 4 remain at most.
+  trigger.dictionary_size_at_start = memory_.dictionary().size() - 3;
+  const auto transferred = Transfer(trigger, {}, memory_, ltm_, filter_);
+  // L2 frees words 3, 4 (5 left: not enough), L3 frees 5, 6 (3 left): stop.
+  EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[1], ids_[2]}));
+  EXPECT_EQ(memory_.dictionary().size(), 3u);
+  EXPECT_TRUE(ltm_.Contains(ids_[1]));
+  EXPECT_EQ(ltm_.size(), 2u);
+  ASSERT_TRUE(ltm_.LoadWord(3).has_value());  // words go to LTM with their locations
+  EXPECT_EQ(*ltm_.LoadWord(3), (std::vector<float>{300, 0}));
+}
+
+TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();  // nothing added
+  EXPECT_EQ(Transfer(trigger, {}, memory_, ltm_, filter_).size(), 1u);
+}
+
+TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 2;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  const auto transferred = Transfer(trigger, {ids_[1]}, memory_, ltm_, filter_);
+  EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L2 was retrieved
+  EXPECT_EQ(memory_.working_memory().size(), 2u);
+  // L4 shared word 1 with L1: it stays in the dictionary, marked as held by LTM too.
+  EXPECT_TRUE(memory_.dictionary().Contains(1));
+  EXPECT_TRUE(memory_.dictionary().IsReferencedByLtm(1));
+}
+
+TEST_F(TransferTest, DictionaryBudget) {
+  TransferTrigger trigger;
+  trigger.max_dictionary_words = 5;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, memory_, ltm_, filter_), (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(memory_.dictionary().size(), 5u);
+}
+
+TEST_F(TransferTest, NoTriggerNoTransfer) {
+  TransferTrigger trigger;
+  trigger.dictionary_size_at_start = 0;
+  EXPECT_TRUE(Transfer(trigger, {}, memory_, ltm_, filter_).empty());
+}
+
+}  // namespace
+}  // namespace memloop

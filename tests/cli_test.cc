@@ -1,0 +1,190 @@
+// The memloop tool as a user runs it: outputs, and a clear error for every bad input.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "memloop/synthetic_route.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome Memloop(const std::string& arguments) {
+  Outcome outcome;
+  FILE* pipe = popen((std::string(MEMLOOP_CLI) + " " + arguments + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  size_t read = 0;
+  while ((read = fread(buffer, 1, sizeof(buffer), pipe)) > 0) outcome.output.append(buffer, read);
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A CSV without its timing columns (names ending in _ms), which vary from run to run.
+std::string WithoutTimes(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<bool> keep;
+  std::string kept;
+  std::stringstream header(line);
+  for (std::string column; std::getline(header, column, ',');) {
+    keep.push_back(column.size() < 3 || column.substr(column.size() - 3) != "_ms");
+  }
+  for (in.seekg(0); std::getline(in, line);) {
+    std::stringstream row(line);
+    size_t index = 0;
+    for (std::string cell; std::getline(row, cell, ','); ++index) {
+      if (index < keep.size() && keep[index]) kept += cell + ",";
+    }
+    kept += "\n";
+  }
+  return kept;
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  // A small route written as images, shared by the tests of this suite.
+  static void SetUpTestSuite() {
+    folder_ = new testing::TempDir();
+    SyntheticRouteOptions options;
+    options.lap_frames = 40;
+    options.detour_frames = 10;
+    options.third_lap_frames = 10;
+    SyntheticRoute(options).Write(folder_->path().string());
+  }
+  static void TearDownTestSuite() { delete folder_; }
+  static std::string Images() { return folder_->File("images"); }
+
+  static testing::TempDir* folder_;
+  testing::TempDir dir_;
+};
+testing::TempDir* CliTest::folder_ = nullptr;
+
+TEST_F(CliTest, ParamsListsTheRegistry) {
+  const Outcome table = Memloop("params");
+  EXPECT_EQ(table.exit_code, 0);
+  EXPECT_TRUE(Contains(table.output, "memory.stm_size"));
+  EXPECT_TRUE(Contains(table.output, "T_loop"));
+  const Outcome json = Memloop("params --json");
+  EXPECT_TRUE(Contains(json.output, "\"name\": \"filter.min_hypotheses\""));
+}
+
+TEST_F(CliTest, RunWritesOneRowPerImageInNaturalOrder) {
+  const std::string csv = dir_.File("results.csv");
+  const Outcome run = Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(Contains(run.output, "images: 110 processed, 0 skipped")) << run.output;
+  EXPECT_TRUE(Contains(run.output, "loop closure with location")) << run.output;
+  std::istringstream rows(ReadFile(csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line.substr(0, 45), "image,name,location_id,matched_image,matched_");
+  int count = 0;
+  while (std::getline(rows, line)) {
+    EXPECT_EQ(line.substr(0, line.find(',')), std::to_string(count)) << line;
+    ++count;
+  }
+  EXPECT_EQ(count, 110);  // 40 + 10 + 40 + 10 + 10 frames
+}
+
+TEST_F(CliTest, SameInputTwiceSameCsv) {
+  const std::string options = " --set memory.time_limit_ms=0 memory.max_wm_locations=20 --out ";
+  ASSERT_EQ(Memloop("run " + Images() + options + dir_.File("a.csv")).exit_code, 0);
+  ASSERT_EQ(Memloop("run " + Images() + options + dir_.File("b.csv")).exit_code, 0);
+  const std::string first = WithoutTimes(ReadFile(dir_.File("a.csv")));
+  EXPECT_EQ(first, WithoutTimes(ReadFile(dir_.File("b.csv"))));
+  EXPECT_GT(first.size(), 1000u);
+}
+
+TEST_F(CliTest, CorruptImageIsWarnedSkippedAndCounted) {
+  const cv::Mat image = cv::imread(Images() + "/1.png");
+  for (const char* name : {"1.png", "2.png", "4.png"}) cv::imwrite(dir_.File(name), image);
+  std::ofstream(dir_.File("3.png")) << "truncated";
+  const Outcome run = Memloop("run " + dir_.path().string());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(Contains(run.output, "skipping 3.png: not a readable image")) << run.output;
+  EXPECT_TRUE(Contains(run.output, "3 processed, 1 skipped")) << run.output;
+}
+
+TEST_F(CliTest, BadInputsFailWithOneClearLine) {
+  const std::string missing = dir_.File("missing");
+  struct Case {
+    std::string arguments;
+    std::string message;
+  };
+  std::filesystem::create_directories(dir_.File("empty"));
+  std::filesystem::create_directories(dir_.File("junk"));
+  std::ofstream(dir_.File("junk/a.jpg")) << "junk";
+  std::ofstream(dir_.File("clip.mp4")) << "not a video";
+  const std::vector<Case> cases = {
+      {"run " + missing, missing + ": no such file or folder"},
+      {"run " + dir_.File("empty"), dir_.File("empty") + ": the folder holds no image"},
+      {"run " + dir_.File("junk"), dir_.File("junk") + ": no readable image (1 skipped)"},
+      {"run " + dir_.File("clip.mp4"), dir_.File("clip.mp4") + ": cannot be opened as a video"},
+      {"run " + Images() + " --set memory.stm=3", "Unknown parameter 'memory.stm'"},
+      {"run " + Images() + " --set filter.loop_threshold=7",
+       "Invalid parameter filter.loop_threshold = '7': must be in [0, 1]"},
+  };
+  for (const Case& c : cases) {
+    const Outcome outcome = Memloop(c.arguments);
+    EXPECT_NE(outcome.exit_code, 0) << c.arguments;
+    EXPECT_TRUE(Contains(outcome.output, "memloop: error: " + c.message))
+        << c.arguments << "\n" << outcome.output;
+  }
+}
+
+TEST_F(CliTest, ForeignOrExistingDatabasesAreRefusedAndKept) {
+  const std::string notes = dir_.File("notes.db");
+  std::ofstream(notes) << "my notes";
+  Outcome outcome = Memloop("run " + Images() + " --db " + notes);
+  EXPECT_NE(outcome.exit_code, 0);
+  EXPECT_TRUE(Contains(outcome.output, notes + ": not a memloop map")) << outcome.output;
+  EXPECT_EQ(ReadFile(notes), "my notes");
+
+  const std::string map = dir_.File("map.db");
+  ASSERT_EQ(Memloop("run " + Images() + " --db " + map).exit_code, 0);
+  const std::string before = ReadFile(map);
+  outcome = Memloop("run " + Images() + " --db " + map);
+  EXPECT_NE(outcome.exit_code, 0);
+  EXPECT_TRUE(Contains(outcome.output, "already holds a memloop map")) << outcome.output;
+  EXPECT_EQ(ReadFile(map), before);
+
+  std::string damaged = before;
+  for (size_t i = 4096; i < std::min<size_t>(damaged.size(), 12288); ++i) damaged[i] = 'x';
+  std::ofstream(map, std::ios::binary | std::ios::trunc) << damaged;
+  outcome = Memloop("run " + Images() + " --db " + map);
+  EXPECT_NE(outcome.exit_code, 0);
+  EXPECT_TRUE(Contains(outcome.output, map + ": ")) << outcome.output;
+  EXPECT_EQ(ReadFile(map), damaged);
+}
+
+TEST_F(CliTest, DemoPrintsPrecisionAndRecall) {
+  const Outcome demo = Memloop("demo --set memory.time_limit_ms=0");
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  EXPECT_TRUE(Contains(demo.output, "precision 100.0%")) << demo.output;
+  EXPECT_FALSE(Contains(demo.output, "[FALSE]")) << demo.output;
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,124 @@
+// The whole detector on the generated route, whose ground truth is exact.
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "memloop/detector.h"
+#include "memloop/errors.h"
+#include "memloop/evaluation.h"
+#include "memloop/synthetic_route.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+std::vector<Result> RunRoute(const SyntheticRoute& route, const Options& options) {
+  testing::TempDir dir;
+  Detector detector(options, dir.File("map.db"));
+  std::vector<Result> results;
+  for (int index = 0; index < route.size(); ++index) {
+    results.push_back(detector.Process(route.Render(index), index));
+  }
+  return results;
+}
+
+PrecisionRecall Score(const SyntheticRoute& route, const std::vector<Result>& results) {
+  std::vector<Detection> detections;
+  for (const Result& result : results) {
+    if (result.HasLoopClosure()) {
+      detections.push_back({result.image_index, result.loop_closure_images});
+    }
+  }
+  return Evaluate(detections, [&](int q, int m) { return route.IsLoop(q, m); }, route.size());
+}
+
+// Time-based transfer depends on the machine: deterministic tests turn it off.
+Options Deterministic() {
+  Options options;
+  options.memory.time_limit_ms = 0;
+  return options;
+}
+
+TEST(DetectorIntegrationTest, GeneratedRouteAtDefaultParameters) {
+  const SyntheticRoute route;
+  const std::vector<Result> results = RunRoute(route, Deterministic());
+  const PrecisionRecall score = Score(route, results);
+  EXPECT_EQ(score.false_positives, 0);
+  EXPECT_DOUBLE_EQ(score.Precision(), 1.0);
+  EXPECT_GE(score.Recall(), 0.80) << score.true_positives << "/" << score.loop_images;
+  // The first lap and the detours are new places: no loop closure there.
+  for (const Result& result : results) {
+    if (result.image_index < SyntheticRouteOptions().lap_frames) {
+      EXPECT_FALSE(result.HasLoopClosure()) << result.Brief();
+    }
+  }
+}
+
+TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
+  const SyntheticRoute route;
+  Options options = Deterministic();
+  options.memory.max_wm_locations = 35;  // the unbounded run peaks above 40
+  const std::vector<Result> results = RunRoute(route, options);
+  std::set<LocationId> retrieved;
+  int loops_on_retrieved = 0;
+  size_t max_wm = 0;
+  int max_ltm = 0;
+  for (const Result& result : results) {
+    if (result.HasLoopClosure() && retrieved.count(result.loop_closure_id)) ++loops_on_retrieved;
+    retrieved.insert(result.retrieved_ids.begin(), result.retrieved_ids.end());
+    max_wm = std::max<size_t>(max_wm, result.wm_size);
+    max_ltm = std::max(max_ltm, result.ltm_size);
+    EXPECT_LE(result.retrieved_ids.size(), 2u);
+  }
+  EXPECT_LE(max_wm, 35u);
+  EXPECT_GT(max_ltm, 0);
+  EXPECT_GT(loops_on_retrieved, 0) << "no loop closure on a location brought back from LTM";
+  EXPECT_EQ(Score(route, results).false_positives, 0);
+}
+
+TEST(DetectorIntegrationTest, SameInputSameResults) {
+  SyntheticRouteOptions small;
+  small.lap_frames = 40;
+  small.detour_frames = 10;
+  small.third_lap_frames = 10;
+  const SyntheticRoute route(small);
+  Options options = Deterministic();
+  options.memory.max_wm_locations = 20;
+  const auto first = RunRoute(route, options);
+  const auto second = RunRoute(route, options);
+  ASSERT_EQ(first.size(), second.size());
+  for (size_t i = 0; i < first.size(); ++i) {
+    EXPECT_EQ(first[i].location_id, second[i].location_id) << i;
+    EXPECT_EQ(first[i].word_count, second[i].word_count) << i;
+    EXPECT_EQ(first[i].hypothesis_id, second[i].hypothesis_id) << i;
+    EXPECT_EQ(first[i].hypothesis_value, second[i].hypothesis_value) << i;
+    EXPECT_EQ(first[i].loop_closure_id, second[i].loop_closure_id) << i;
+    EXPECT_EQ(first[i].retrieved_ids, second[i].retrieved_ids) << i;
+    EXPECT_EQ(first[i].transferred_ids, second[i].transferred_ids) << i;
+    EXPECT_EQ(first[i].dictionary_size, second[i].dictionary_size) << i;
+  }
+}
+
+TEST(DetectorIntegrationTest, BadImageIsRefusedAndNothingChanges) {
+  testing::TempDir dir;
+  Detector detector(Deterministic(), dir.File("map.db"));
+  EXPECT_THROW(detector.Process(cv::Mat()), InputError);
+  EXPECT_THROW(detector.Process(cv::Mat(10, 10, CV_32F)), InputError);
+  const Result result = detector.Process(SyntheticRoute().Render(0));
+  EXPECT_EQ(result.location_id, 1);
+  EXPECT_EQ(result.image_index, 0);
+}
+
+TEST(DetectorIntegrationTest, InvalidOptionsAreRefused) {
+  testing::TempDir dir;
+  Options options;
+  options.filter.loop_threshold = 2;
+  EXPECT_THROW(Detector(options, dir.File("map.db")), ParameterError);
+}
+
+TEST(DetectorIntegrationTest, DefaultResultSaysNotRun) {
+  EXPECT_EQ(Result().Brief(), "Detector::Process was not called.");
+}
+
+}  // namespace
+}  // namespace memloop

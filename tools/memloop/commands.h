@@ -1,0 +1,21 @@
+// The subcommands of the memloop tool, one file each.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "memloop/options.h"
+
+namespace memloop::cli {
+
+// Each Add*Command registers its subcommand; the callback runs it and may throw memloop::Error.
+void AddRunCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
+void AddParamsCommand(CLI::App& app);
+
+// Default options with every "--set NAME=VALUE" applied (throws ParameterError).
+Options OptionsFromAssignments(const std::vector<std::string>& assignments);
+
+}  // namespace memloop::cli

@@ -1,0 +1,36 @@
+// memloop: real-time appearance-based loop closure detection with memory management.
+// Subcommands: run, demo, generate, params. Errors print "memloop: error: ..." and exit 1.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "memloop/errors.h"
+#include "memloop/params.h"
+
+namespace memloop::cli {
+
+Options OptionsFromAssignments(const std::vector<std::string>& assignments) {
+  Options options;
+  for (const std::string& assignment : assignments) SetParameter(options, assignment);
+  return options;
+}
+
+}  // namespace memloop::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{"memloop: real-time appearance-based loop closure detection (Labbe & Michaud 2011)"};
+  app.require_subcommand(1);
+  memloop::cli::AddRunCommand(app);
+  memloop::cli::AddDemoCommand(app);
+  memloop::cli::AddParamsCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const std::exception& error) {
+    std::cerr << "memloop: error: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
