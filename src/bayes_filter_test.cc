@@ -1,8 +1,8 @@
 #include "bayes_filter.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace memloop {
 namespace {
@@ -50,13 +50,12 @@ TEST(BayesFilterTest, EveryColumnOfTheTransitionModelSumsToOne) {
   BayesFilter filter{FilterOptions()};
   // A graph with a loop closure: 1-2-3-4-5-6-7-8 plus 8-2, so distances vary per column.
   const std::map<LocationId, std::vector<LocationId>> links = {
-      {1, {2}}, {2, {1, 3, 8}}, {3, {2, 4}}, {4, {3, 5}},
-      {5, {4, 6}}, {6, {5, 7}}, {7, {6, 8}}, {8, {7, 2}}};
+      {1, {2}},    {2, {1, 3, 8}}, {3, {2, 4}}, {4, {3, 5}},
+      {5, {4, 6}}, {6, {5, 7}},    {7, {6, 8}}, {8, {7, 2}}};
   Neighbourhoods graph;
   for (const auto& entry : links) {
-    graph[entry.first] = FindNeighbourhood(entry.first, 4, [&](LocationId id) {
-      return links.at(id);
-    });
+    graph[entry.first] =
+        FindNeighbourhood(entry.first, 4, [&](LocationId id) { return links.at(id); });
   }
   for (const auto& [j, neighbourhood] : graph) {
     double column = 1.0 - FilterOptions().virtual_place_stay;  // p(S_t=-1 | S_t-1=j) = 0.1

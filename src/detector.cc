@@ -1,8 +1,7 @@
 #include "memloop/detector.h"
 
-#include <set>
-
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "bayes_filter.h"
 #include "hypothesis.h"
@@ -25,10 +24,16 @@ cv::Mat ToGray(const cv::Mat& image) {
   if (image.depth() != CV_8U) throw InputError("image", "not an 8-bit image");
   cv::Mat gray;
   switch (image.channels()) {
-    case 1: return image;
-    case 3: cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY); return gray;
-    case 4: cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY); return gray;
-    default: throw InputError("image", "unsupported number of channels");
+    case 1:
+      return image;
+    case 3:
+      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+      return gray;
+    case 4:
+      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
+      return gray;
+    default:
+      throw InputError("image", "unsupported number of channels");
   }
 }
 
@@ -64,14 +69,14 @@ class Detector::Impl {
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
 
-    const LocationId t = CreateLocation(gray, result);                         // III-A
-    Rehearse(t, result);                                                       // III-B, eq. 1
-    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                     // STM -> WM
-    const Likelihood likelihood = ComputeObservation(t, result);              // eq. 3, 4
-    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);    // eq. 2
+    const LocationId t = CreateLocation(gray, result);                           // III-A
+    Rehearse(t, result);                                                         // III-B, eq. 1
+    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                       // STM -> WM
+    const Likelihood likelihood = ComputeObservation(t, result);                 // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);      // eq. 2
     const Hypothesis hypothesis = SelectLoopClosure(t, neighbourhoods, result);  // III-D
-    RetrieveNeighbours(hypothesis, result);                                    // III-E
-    TransferToLtm(iteration, result);                                          // III-F
+    RetrieveNeighbours(hypothesis, result);                                      // III-E
+    TransferToLtm(iteration, result);                                            // III-F
     Summarize(t, iteration, result);
     return result;
   }
@@ -142,8 +147,7 @@ class Detector::Impl {
     return neighbourhoods;
   }
 
-  Hypothesis SelectLoopClosure(LocationId t, const Neighbourhoods& neighbourhoods,
-                               Result& result) {
+  Hypothesis SelectLoopClosure(LocationId t, const Neighbourhoods& neighbourhoods, Result& result) {
     ScopedTimer timer(&result.times.selection_ms);
     const Hypothesis hypothesis =
         SelectHypothesis(filter_.posterior(), neighbourhoods, options_.filter);
@@ -191,9 +195,8 @@ class Detector::Impl {
 
   void RetrieveNeighbours(const Hypothesis& hypothesis, Result& result) {
     ScopedTimer timer(&result.times.retrieval_ms);
-    const RetrievalOutcome outcome =
-        Retrieve(hypothesis.id, options_.memory.max_retrieved, options_.filter.neighbour_range,
-                 memory_, ltm_);
+    const RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved,
+                                              options_.filter.neighbour_range, memory_, ltm_);
     result.retrieved_ids = outcome.retrieved;
     retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
   }
@@ -206,8 +209,7 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids =
-        Transfer(trigger, retrieved_this_iteration_, memory_, ltm_, filter_);
+    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, memory_, ltm_, filter_);
   }
 
   void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {

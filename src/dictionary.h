@@ -4,10 +4,9 @@
 #pragma once
 
 #include <map>
+#include <opencv2/core.hpp>
 #include <unordered_map>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "kd_forest.h"
 #include "memloop/options.h"

@@ -1,8 +1,8 @@
 #include "memloop/evaluation.h"
 
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <set>
 
 namespace memloop {
 namespace {

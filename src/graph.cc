@@ -5,7 +5,6 @@
 
 namespace memloop {
 
-
 Neighbourhood FindNeighbourhood(LocationId start, int range, const LinksFunction& links_of) {
   Neighbourhood result = {{start, 0}};
   std::unordered_set<LocationId> seen = {start};

@@ -1,8 +1,8 @@
 #include "graph.h"
 
-#include <map>
-
 #include <gtest/gtest.h>
+
+#include <map>
 
 namespace memloop {
 namespace {

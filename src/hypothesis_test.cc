@@ -25,7 +25,7 @@ TEST(HypothesisTest, HighestPosteriorWithItsNeighboursSummed) {
   const Hypothesis hypothesis = SelectHypothesis(kPosterior, Graph(), options);
   EXPECT_EQ(hypothesis.id, 2);
   EXPECT_NEAR(hypothesis.value, 0.05 + 0.3 + 0.1 + 0.02, 1e-12);  // 0.47
-  EXPECT_TRUE(hypothesis.accepted);                                 // 0.47 > T_loop = 0.1
+  EXPECT_TRUE(hypothesis.accepted);                               // 0.47 > T_loop = 0.1
 }
 
 TEST(HypothesisTest, NotAcceptedBelowTLoopOrWithTooFewHypotheses) {

@@ -1,8 +1,8 @@
 #include "memloop/image_sequence.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "memloop/errors.h"

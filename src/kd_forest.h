@@ -7,12 +7,11 @@
 #include <array>
 #include <deque>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <unordered_map>
 #include <vector>
 
 #include "flann_deterministic.h"
-#include <opencv2/core.hpp>
-
 #include "memloop/options.h"
 #include "memloop/types.h"
 

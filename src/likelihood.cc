@@ -15,9 +15,9 @@ std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memo
   std::map<LocationId, double> scores;
   for (LocationId id : memory.working_memory()) {
     const auto found = pairs.find(id);
-    scores[id] = found == pairs.end()
-                     ? 0.0
-                     : SimilarityFromPairs(found->second, z_t.size(), memory.at(id).signature.size());
+    scores[id] = found == pairs.end() ? 0.0
+                                      : SimilarityFromPairs(found->second, z_t.size(),
+                                                            memory.at(id).signature.size());
   }
   return scores;
 }

@@ -52,14 +52,31 @@ class LongTermMemory {
   const std::string& path() const { return path_; }
 
  private:
-  struct StoreLocation { Location location; };
-  struct StoreWordOp { WordId id; std::vector<float> descriptor; };
-  struct ReplaceWordOp { WordId old_id; WordId new_id; };
-  struct RedirectOp { LocationId absorbed; LocationId survivor; };
-  struct InfoOp { std::string key; std::string value; };
+  struct StoreLocation {
+    Location location;
+  };
+  struct StoreWordOp {
+    WordId id;
+    std::vector<float> descriptor;
+  };
+  struct ReplaceWordOp {
+    WordId old_id;
+    WordId new_id;
+  };
+  struct RedirectOp {
+    LocationId absorbed;
+    LocationId survivor;
+  };
+  struct InfoOp {
+    std::string key;
+    std::string value;
+  };
   using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp,
                                  LoopClosureRecord, InfoOp>;
-  struct Queued { long long sequence; Operation operation; };
+  struct Queued {
+    long long sequence;
+    Operation operation;
+  };
 
   void Enqueue(Operation operation);
   void WriterLoop();

@@ -1,10 +1,9 @@
 #include "long_term_memory.h"
 
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include "small_memory.h"
 #include "temp_dir.h"

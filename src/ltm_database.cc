@@ -25,8 +25,9 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
   if (existed) CheckIdentity(mode);
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).
-  connection_.Execute("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
-                      "PRAGMA foreign_keys=OFF;");
+  connection_.Execute(
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
+      "PRAGMA foreign_keys=OFF;");
   if (!existed) CreateSchema();
 }
 
@@ -39,8 +40,8 @@ void LtmDatabase::CheckIdentity(Mode mode) {
     SqliteStatement version_query(connection_, "PRAGMA user_version");
     if (version_query.Step()) version = version_query.Int(0);
   } catch (const DatabaseError& error) {
-    throw DatabaseError(path(), std::string("not a memloop map (") +
-                                    sqlite3_errmsg(connection_.handle()) + ")");
+    throw DatabaseError(
+        path(), std::string("not a memloop map (") + sqlite3_errmsg(connection_.handle()) + ")");
   }
   if (application_id != kApplicationId) {
     throw DatabaseError(path(), "not a memloop map (an SQLite database of another application)");
@@ -54,16 +55,21 @@ void LtmDatabase::CheckIdentity(Mode mode) {
   const std::string verdict = check.Step() ? check.Text(0) : "no answer";
   if (verdict != "ok") throw DatabaseError(path(), "the map is damaged (" + verdict + ")");
   if (mode == Mode::kCreate) {
-    throw DatabaseError(path(), "already holds a memloop map; a run starts a new map, so choose "
-                                "another --db path (the existing map is left untouched)");
+    throw DatabaseError(path(),
+                        "already holds a memloop map; a run starts a new map, so choose "
+                        "another --db path (the existing map is left untouched)");
   }
 }
 
 void LtmDatabase::CreateSchema() {
   connection_.Execute(
       "BEGIN;"
-      "PRAGMA application_id=" + std::to_string(kApplicationId) + ";"
-      "PRAGMA user_version=" + std::to_string(kFormatVersion) + ";"
+      "PRAGMA application_id=" +
+      std::to_string(kApplicationId) +
+      ";"
+      "PRAGMA user_version=" +
+      std::to_string(kFormatVersion) +
+      ";"
       "CREATE TABLE info(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
       "CREATE TABLE locations(id INTEGER PRIMARY KEY, weight INTEGER NOT NULL);"
       "CREATE TABLE location_images(location_id INTEGER NOT NULL, rank INTEGER NOT NULL,"
@@ -112,8 +118,10 @@ void LtmDatabase::WriteLocation(const Location& location) {
   }
   auto& image = Cached("INSERT INTO location_images(location_id, rank, image) VALUES(?,?,?)");
   for (size_t rank = 0; rank < location.images.size(); ++rank) {
-    image.Bind(1, id).Bind(2, static_cast<long long>(rank))
-        .Bind(3, static_cast<long long>(location.images[rank])).Run();
+    image.Bind(1, id)
+        .Bind(2, static_cast<long long>(rank))
+        .Bind(3, static_cast<long long>(location.images[rank]))
+        .Run();
   }
   auto& word = Cached(
       "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
@@ -121,11 +129,15 @@ void LtmDatabase::WriteLocation(const Location& location) {
   const Signature& signature = location.signature;
   for (size_t rank = 0; rank < signature.words.size(); ++rank) {
     const cv::KeyPoint& keypoint = signature.keypoints[rank];
-    word.Bind(1, id).Bind(2, static_cast<long long>(rank))
+    word.Bind(1, id)
+        .Bind(2, static_cast<long long>(rank))
         .Bind(3, static_cast<long long>(signature.words[rank]))
-        .Bind(4, double{keypoint.pt.x}).Bind(5, double{keypoint.pt.y})
-        .Bind(6, double{keypoint.size}).Bind(7, double{keypoint.angle})
-        .Bind(8, double{keypoint.response}).Bind(9, static_cast<long long>(keypoint.octave))
+        .Bind(4, double{keypoint.pt.x})
+        .Bind(5, double{keypoint.pt.y})
+        .Bind(6, double{keypoint.size})
+        .Bind(7, double{keypoint.angle})
+        .Bind(8, double{keypoint.response})
+        .Bind(9, static_cast<long long>(keypoint.octave))
         .Run();
   }
 }
@@ -139,27 +151,33 @@ void LtmDatabase::WriteWord(WordId id, const std::vector<float>& descriptor) {
 
 void LtmDatabase::ReplaceWord(WordId old_id, WordId new_id) {
   Cached("UPDATE signature_words SET word_id=? WHERE word_id=?")
-      .Bind(1, static_cast<long long>(new_id)).Bind(2, static_cast<long long>(old_id)).Run();
+      .Bind(1, static_cast<long long>(new_id))
+      .Bind(2, static_cast<long long>(old_id))
+      .Run();
   Cached("DELETE FROM words WHERE id=?").Bind(1, static_cast<long long>(old_id)).Run();
 }
 
 void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
   Cached("UPDATE OR IGNORE links SET to_id=? WHERE to_id=?")
-      .Bind(1, static_cast<long long>(survivor)).Bind(2, static_cast<long long>(absorbed)).Run();
-  for (const char* sql : {"DELETE FROM links WHERE to_id=? OR from_id=?1",
-                          "DELETE FROM locations WHERE id=?",
-                          "DELETE FROM location_images WHERE location_id=?",
-                          "DELETE FROM signature_words WHERE location_id=?"}) {
+      .Bind(1, static_cast<long long>(survivor))
+      .Bind(2, static_cast<long long>(absorbed))
+      .Run();
+  for (const char* sql :
+       {"DELETE FROM links WHERE to_id=? OR from_id=?1", "DELETE FROM locations WHERE id=?",
+        "DELETE FROM location_images WHERE location_id=?",
+        "DELETE FROM signature_words WHERE location_id=?"}) {
     Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
   }
   // A survivor linked to itself through the redirection keeps no such link.
   Cached("DELETE FROM links WHERE from_id=? AND to_id=?1")
-      .Bind(1, static_cast<long long>(survivor)).Run();
+      .Bind(1, static_cast<long long>(survivor))
+      .Run();
 }
 
 void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
-  Cached("INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"
-         " probability) VALUES(?,?,?,?,?)")
+  Cached(
+      "INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"
+      " probability) VALUES(?,?,?,?,?)")
       .Bind(1, static_cast<long long>(record.query_image))
       .Bind(2, static_cast<long long>(record.match_image))
       .Bind(3, static_cast<long long>(record.query_location))
@@ -234,8 +252,8 @@ std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
   std::vector<LoopClosureRecord> records;
   while (query.Step()) {
     records.push_back({static_cast<ImageIndex>(query.Int(0)), static_cast<ImageIndex>(query.Int(1)),
-                       static_cast<LocationId>(query.Int(2)),
-                       static_cast<LocationId>(query.Int(3)), query.Double(4)});
+                       static_cast<LocationId>(query.Int(2)), static_cast<LocationId>(query.Int(3)),
+                       query.Double(4)});
   }
   query.Reset();
   return records;

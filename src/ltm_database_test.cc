@@ -1,9 +1,9 @@
 #include "ltm_database.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <iterator>
-
-#include <gtest/gtest.h>
 
 #include "memloop/errors.h"
 #include "small_memory.h"

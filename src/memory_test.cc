@@ -35,7 +35,7 @@ TEST(MemoryTest, ReleaseAndRestoreKeepTheGraph) {
   memory.MoveStmOverflowToWm(0);
   std::vector<WordId> orphans;
   Location released = memory.Release(ids[1], &orphans);
-  EXPECT_EQ(orphans, (std::vector<WordId>{2}));  // word 5 is still L1's
+  EXPECT_EQ(orphans, (std::vector<WordId>{2}));             // word 5 is still L1's
   EXPECT_TRUE(memory.at(ids[0]).neighbours.count(ids[1]));  // links to LTM stay
   memory.Restore(std::move(released));
   EXPECT_TRUE(memory.InWorkingMemory(ids[1]));
@@ -45,7 +45,7 @@ TEST(MemoryTest, ReleaseAndRestoreKeepTheGraph) {
 TEST(MemoryTest, WorkingMemoryNeighbourhoodPassesThroughStmButHoldsOnlyWm) {
   Memory memory(2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1}, {2}, {3}, {4}, {5}});
-  memory.MoveStmOverflowToWm(3);  // WM: L1, L2; STM: L3, L4, L5
+  memory.MoveStmOverflowToWm(3);                              // WM: L1, L2; STM: L3, L4, L5
   memory.AddLinksOf(ids[4], ids[0], /*link_together=*/true);  // L5 <-> L1 loop closure
   const Neighbourhood expected = {{ids[0], 0}, {ids[1], 1}};
   EXPECT_EQ(memory.WmNeighbourhood(ids[0], 4), expected);

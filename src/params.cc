@@ -8,50 +8,179 @@
 namespace memloop {
 namespace {
 
-#define MEMLOOP_FIELD(path) +[](Options& o) -> auto& { return o.path; }
+#define MEMLOOP_FIELD(path)   \
+  +[](Options & o) -> auto& { \
+    return o.path;            \
+  }
 
 std::vector<Parameter> MakeRegistry() {
   constexpr double kHuge = 1e9;
   return {
-      {"features.type", MEMLOOP_FIELD(features.type), "", 0, 0, false, {"sift"}, "",
+      {"features.type",
+       MEMLOOP_FIELD(features.type),
+       "",
+       0,
+       0,
+       false,
+       {"sift"},
+       "",
        "Feature backend: sift (OpenCV SIFT, 128-d float descriptors)"},
-      {"features.max_features", MEMLOOP_FIELD(features.max_features), "keypoints", 0, 100000,
-       false, {}, "", "Strongest keypoints kept per image (0 = all)"},
-      {"dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio), "", 0, 1, true, {}, "",
+      {"features.max_features",
+       MEMLOOP_FIELD(features.max_features),
+       "keypoints",
+       0,
+       100000,
+       false,
+       {},
+       "",
+       "Strongest keypoints kept per image (0 = all)"},
+      {"dictionary.nndr_ratio",
+       MEMLOOP_FIELD(dictionary.nndr_ratio),
+       "",
+       0,
+       1,
+       true,
+       {},
+       "",
        "Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"},
-      {"dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees), "trees", 1, 64, false, {}, "",
+      {"dictionary.kd_trees",
+       MEMLOOP_FIELD(dictionary.kd_trees),
+       "trees",
+       1,
+       64,
+       false,
+       {},
+       "",
        "Randomized kd-trees in the dictionary's forest (FLANN)"},
-      {"dictionary.kd_checks", MEMLOOP_FIELD(dictionary.kd_checks), "leaves", 1, 100000, false,
-       {}, "", "Leaves visited per nearest-neighbour search (FLANN checks)"},
-      {"dictionary.rebuild_fraction", MEMLOOP_FIELD(dictionary.rebuild_fraction), "", 0, 100,
-       true, {}, "", "Rebuild the forest when points added+removed since the last build exceed "
-                     "this fraction of its size then"},
-      {"dictionary.seed", MEMLOOP_FIELD(dictionary.seed), "", 0, 2147483647, false, {}, "",
+      {"dictionary.kd_checks",
+       MEMLOOP_FIELD(dictionary.kd_checks),
+       "leaves",
+       1,
+       100000,
+       false,
+       {},
+       "",
+       "Leaves visited per nearest-neighbour search (FLANN checks)"},
+      {"dictionary.rebuild_fraction",
+       MEMLOOP_FIELD(dictionary.rebuild_fraction),
+       "",
+       0,
+       100,
+       true,
+       {},
+       "",
+       "Rebuild the forest when points added+removed since the last build exceed "
+       "this fraction of its size then"},
+      {"dictionary.seed",
+       MEMLOOP_FIELD(dictionary.seed),
+       "",
+       0,
+       2147483647,
+       false,
+       {},
+       "",
        "Seed of the forest's random splits (repeatable runs)"},
-      {"memory.stm_size", MEMLOOP_FIELD(memory.stm_size), "locations", 0, 100000, false, {},
-       "STM size", "Newest locations kept out of loop closure detection"},
-      {"memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold), "", 0, 1, false,
-       {}, "T_rehearsal (eq. 1)", "Similarity above which the compared STM location is merged"},
-      {"memory.time_limit_ms", MEMLOOP_FIELD(memory.time_limit_ms), "ms", 0, kHuge, false, {},
-       "T_time", "Iteration time above which WM locations go to LTM (0 = infinity)"},
-      {"memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations), "locations", 0,
-       kHuge, false, {}, "", "Deterministic budget: transfer while WM is larger (0 = none)"},
-      {"memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words), "words", 0,
-       kHuge, false, {}, "", "Deterministic budget: transfer while the dictionary is larger "
-                             "(0 = none)"},
-      {"memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved), "locations", 0, 1000, false,
-       {}, "", "Locations retrieved from LTM per iteration, at most"},
-      {"filter.loop_threshold", MEMLOOP_FIELD(filter.loop_threshold), "", 0, 1, false, {},
-       "T_loop", "Neighbour-summed posterior above which a loop closure is accepted"},
-      {"filter.min_hypotheses", MEMLOOP_FIELD(filter.min_hypotheses), "locations", 0, 100000,
-       false, {}, "T_minHyp", "WM locations needed before a loop closure can be accepted"},
-      {"filter.virtual_place_stay", MEMLOOP_FIELD(filter.virtual_place_stay), "", 0, 1, false,
-       {}, "p(S_t=-1|S_t-1=-1)", "Transition: new location after new location (1 - it: to a "
-                                 "loop closure)"},
-      {"filter.neighbour_range", MEMLOOP_FIELD(filter.neighbour_range), "links", 0, 100, false,
-       {}, "", "Transition and hypothesis sum reach this many links from a location"},
-      {"filter.neighbour_sigma", MEMLOOP_FIELD(filter.neighbour_sigma), "links", 0, 100, true,
-       {}, "", "Standard deviation of the transition model's discretized Gaussian"},
+      {"memory.stm_size",
+       MEMLOOP_FIELD(memory.stm_size),
+       "locations",
+       0,
+       100000,
+       false,
+       {},
+       "STM size",
+       "Newest locations kept out of loop closure detection"},
+      {"memory.rehearsal_threshold",
+       MEMLOOP_FIELD(memory.rehearsal_threshold),
+       "",
+       0,
+       1,
+       false,
+       {},
+       "T_rehearsal (eq. 1)",
+       "Similarity above which the compared STM location is merged"},
+      {"memory.time_limit_ms",
+       MEMLOOP_FIELD(memory.time_limit_ms),
+       "ms",
+       0,
+       kHuge,
+       false,
+       {},
+       "T_time",
+       "Iteration time above which WM locations go to LTM (0 = infinity)"},
+      {"memory.max_wm_locations",
+       MEMLOOP_FIELD(memory.max_wm_locations),
+       "locations",
+       0,
+       kHuge,
+       false,
+       {},
+       "",
+       "Deterministic budget: transfer while WM is larger (0 = none)"},
+      {"memory.max_dictionary_words",
+       MEMLOOP_FIELD(memory.max_dictionary_words),
+       "words",
+       0,
+       kHuge,
+       false,
+       {},
+       "",
+       "Deterministic budget: transfer while the dictionary is larger "
+       "(0 = none)"},
+      {"memory.max_retrieved",
+       MEMLOOP_FIELD(memory.max_retrieved),
+       "locations",
+       0,
+       1000,
+       false,
+       {},
+       "",
+       "Locations retrieved from LTM per iteration, at most"},
+      {"filter.loop_threshold",
+       MEMLOOP_FIELD(filter.loop_threshold),
+       "",
+       0,
+       1,
+       false,
+       {},
+       "T_loop",
+       "Neighbour-summed posterior above which a loop closure is accepted"},
+      {"filter.min_hypotheses",
+       MEMLOOP_FIELD(filter.min_hypotheses),
+       "locations",
+       0,
+       100000,
+       false,
+       {},
+       "T_minHyp",
+       "WM locations needed before a loop closure can be accepted"},
+      {"filter.virtual_place_stay",
+       MEMLOOP_FIELD(filter.virtual_place_stay),
+       "",
+       0,
+       1,
+       false,
+       {},
+       "p(S_t=-1|S_t-1=-1)",
+       "Transition: new location after new location (1 - it: to a "
+       "loop closure)"},
+      {"filter.neighbour_range",
+       MEMLOOP_FIELD(filter.neighbour_range),
+       "links",
+       0,
+       100,
+       false,
+       {},
+       "",
+       "Transition and hypothesis sum reach this many links from a location"},
+      {"filter.neighbour_sigma",
+       MEMLOOP_FIELD(filter.neighbour_sigma),
+       "links",
+       0,
+       100,
+       true,
+       {},
+       "",
+       "Standard deviation of the transition model's discretized Gaussian"},
   };
 }
 
@@ -75,9 +204,12 @@ bool ParseDouble(const std::string& text, double* value) {
 
 std::string Parameter::TypeName() const {
   switch (field.index()) {
-    case 0: return "int";
-    case 1: return "double";
-    default: return "string";
+    case 0:
+      return "int";
+    case 1:
+      return "double";
+    default:
+      return "string";
   }
 }
 
@@ -188,9 +320,8 @@ std::string ParametersMarkdown() {
          "| name | default | type | unit | range | paper | description |\n"
          "| --- | --- | --- | --- | --- | --- | --- |\n";
   for (const Parameter& p : Parameters()) {
-    out << "| `" << p.key << "` | " << p.Get(defaults) << " | " << p.TypeName() << " | "
-        << p.unit << " | " << p.RangeText() << " | " << p.symbol << " | " << p.description
-        << " |\n";
+    out << "| `" << p.key << "` | " << p.Get(defaults) << " | " << p.TypeName() << " | " << p.unit
+        << " | " << p.RangeText() << " | " << p.symbol << " | " << p.description << " |\n";
   }
   return out.str();
 }

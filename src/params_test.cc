@@ -1,9 +1,9 @@
 #include "memloop/params.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <iterator>
-
-#include <gtest/gtest.h>
 
 #include "memloop/errors.h"
 

@@ -18,8 +18,8 @@ TEST(RehearsalTest, MergesTheMostRecentSimilarLocationAsThePaperSays) {
   EXPECT_DOUBLE_EQ(outcome.similarity, 0.4);
   const Location& merged = memory.at(ids[2]);
   EXPECT_EQ(merged.signature.words, (std::vector<WordId>{4, 5, 6}));  // z_c copied into z_t
-  EXPECT_EQ(merged.weight, 0 + 3 + 1);                                  // weight_c + 1
-  EXPECT_EQ(merged.neighbours, (std::set<LocationId>{ids[0]}));         // L_c's links
+  EXPECT_EQ(merged.weight, 0 + 3 + 1);                                // weight_c + 1
+  EXPECT_EQ(merged.neighbours, (std::set<LocationId>{ids[0]}));       // L_c's links
   EXPECT_EQ(memory.at(ids[0]).neighbours, (std::set<LocationId>{ids[2]}));
   EXPECT_EQ(merged.images, (std::vector<ImageIndex>{2, 1}));
   EXPECT_FALSE(memory.Contains(ids[1]));  // L_c deleted from STM

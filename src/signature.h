@@ -1,10 +1,9 @@
 // A signature z: the visual words of an image with the keypoint each came from (paper III-A).
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <utility>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "memloop/types.h"
 

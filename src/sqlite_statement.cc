@@ -51,8 +51,8 @@ SqliteStatement& SqliteStatement::Bind(int index, double value) {
 }
 
 SqliteStatement& SqliteStatement::Bind(int index, const std::string& value) {
-  connection_.Check(
-      sqlite3_bind_text(statement_, index, value.c_str(), -1, SQLITE_TRANSIENT), "bind");
+  connection_.Check(sqlite3_bind_text(statement_, index, value.c_str(), -1, SQLITE_TRANSIENT),
+                    "bind");
   return *this;
 }
 
@@ -78,7 +78,9 @@ void SqliteStatement::Reset() {
   sqlite3_clear_bindings(statement_);
 }
 
-long long SqliteStatement::Int(int column) const { return sqlite3_column_int64(statement_, column); }
+long long SqliteStatement::Int(int column) const {
+  return sqlite3_column_int64(statement_, column);
+}
 
 double SqliteStatement::Double(int column) const {
   return sqlite3_column_double(statement_, column);

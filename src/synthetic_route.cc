@@ -3,7 +3,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -27,7 +26,9 @@ cv::Mat MakeTexture(int width, int height, cv::RNG& rng) {
     const cv::Scalar gray(rng.uniform(0, 256));
     const int size = rng.uniform(3, 22);
     switch (rng.uniform(0, 4)) {
-      case 0: cv::circle(texture, center, size, gray, cv::FILLED, cv::LINE_AA); break;
+      case 0:
+        cv::circle(texture, center, size, gray, cv::FILLED, cv::LINE_AA);
+        break;
       case 1:
         cv::rectangle(texture, center, center + cv::Point(size, rng.uniform(3, 22)), gray,
                       cv::FILLED);

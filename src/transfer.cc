@@ -38,8 +38,7 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   std::vector<LocationId> transferred;
   if (!trigger.time_exceeded && !over_budget()) return transferred;
   for (LocationId id : TransferOrder(memory, immune)) {
-    const bool enough =
-        !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start;
+    const bool enough = !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start;
     if (enough && !transferred.empty()) break;
     std::vector<WordId> orphans;
     Location location = memory.Release(id, &orphans);

@@ -13,9 +13,9 @@
 namespace memloop {
 
 struct TransferTrigger {
-  bool time_exceeded = false;       // iteration time > T_time
-  int max_wm_locations = 0;         // deterministic budget, 0 = none
-  int max_dictionary_words = 0;     // deterministic budget, 0 = none
+  bool time_exceeded = false;    // iteration time > T_time
+  int max_wm_locations = 0;      // deterministic budget, 0 = none
+  int max_dictionary_words = 0;  // deterministic budget, 0 = none
   size_t dictionary_size_at_start = 0;
 };
 

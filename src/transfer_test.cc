@@ -26,8 +26,10 @@ class TransferTest : public ::testing::Test {
 };
 
 TEST_F(TransferTest, LowestWeightFirstThenOldestAndRetrievedAreImmune) {
-  EXPECT_EQ(TransferOrder(memory_, {}), (std::vector<LocationId>{ids_[1], ids_[2], ids_[3], ids_[0]}));
-  EXPECT_EQ(TransferOrder(memory_, {ids_[2]}), (std::vector<LocationId>{ids_[1], ids_[3], ids_[0]}));
+  EXPECT_EQ(TransferOrder(memory_, {}),
+            (std::vector<LocationId>{ids_[1], ids_[2], ids_[3], ids_[0]}));
+  EXPECT_EQ(TransferOrder(memory_, {ids_[2]}),
+            (std::vector<LocationId>{ids_[1], ids_[3], ids_[0]}));
 }
 
 TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {

@@ -1,13 +1,13 @@
 // The memloop tool as a user runs it: outputs, and a clear error for every bad input.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <sstream>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+#include <sstream>
 
 #include "memloop/synthetic_route.h"
 #include "temp_dir.h"
@@ -117,6 +117,22 @@ TEST_F(CliTest, SameInputTwiceSameCsv) {
   EXPECT_GT(first.size(), 1000u);
 }
 
+TEST_F(CliTest, RunsOnAVideo) {
+  const std::string video = dir_.File("route.avi");
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10,
+                           cv::Size(320, 240));
+    ASSERT_TRUE(writer.isOpened());
+    for (int index = 1; index <= 30; ++index) {
+      writer.write(cv::imread(Images() + "/" + std::to_string(index) + ".png"));
+    }
+  }
+  const Outcome run = Memloop("run " + video + " --out " + dir_.File("video.csv"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(Contains(run.output, "images: 30 processed, 0 skipped")) << run.output;
+  EXPECT_TRUE(Contains(ReadFile(dir_.File("video.csv")), "\"frame 30\""));
+}
+
 TEST_F(CliTest, CorruptImageIsWarnedSkippedAndCounted) {
   const cv::Mat image = cv::imread(Images() + "/1.png");
   for (const char* name : {"1.png", "2.png", "4.png"}) cv::imwrite(dir_.File(name), image);
@@ -149,8 +165,8 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
   for (const Case& c : cases) {
     const Outcome outcome = Memloop(c.arguments);
     EXPECT_NE(outcome.exit_code, 0) << c.arguments;
-    EXPECT_TRUE(Contains(outcome.output, "memloop: error: " + c.message))
-        << c.arguments << "\n" << outcome.output;
+    EXPECT_TRUE(Contains(outcome.output, "memloop: error: " + c.message)) << c.arguments << "\n"
+                                                                          << outcome.output;
   }
 }
 

@@ -1,8 +1,9 @@
 // The whole detector on the generated route, whose ground truth is exact.
-#include <set>
-
 #include <gtest/gtest.h>
 
+#include <set>
+
+#include "ltm_database.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/evaluation.h"
@@ -29,7 +30,8 @@ PrecisionRecall Score(const SyntheticRoute& route, const std::vector<Result>& re
       detections.push_back({result.image_index, result.loop_closure_images});
     }
   }
-  return Evaluate(detections, [&](int q, int m) { return route.IsLoop(q, m); }, route.size());
+  return Evaluate(
+      detections, [&](int q, int m) { return route.IsLoop(q, m); }, route.size());
 }
 
 // Time-based transfer depends on the machine: deterministic tests turn it off.
@@ -97,6 +99,75 @@ TEST(DetectorIntegrationTest, SameInputSameResults) {
     EXPECT_EQ(first[i].transferred_ids, second[i].transferred_ids) << i;
     EXPECT_EQ(first[i].dictionary_size, second[i].dictionary_size) << i;
   }
+}
+
+SyntheticRouteOptions ShortRoute() {
+  SyntheticRouteOptions options;
+  options.lap_frames = 40;
+  options.detour_frames = 10;
+  options.third_lap_frames = 10;
+  return options;
+}
+
+// T_time smaller than any iteration: every iteration is over the limit, whatever the machine.
+TEST(DetectorIntegrationTest, TimeLimitTransfersEveryIterationItIsExceeded) {
+  const SyntheticRoute route(ShortRoute());
+  Options options;
+  options.memory.time_limit_ms = 1e-6;
+  const std::vector<Result> results = RunRoute(route, options);
+  int iterations_with_transfer = 0;
+  for (const Result& result : results) {
+    // WM at the transfer step, less the retrieved (immune) ones: if any, one at least goes.
+    const size_t candidates =
+        result.wm_size + result.transferred_ids.size() - result.retrieved_ids.size();
+    EXPECT_EQ(candidates > 0, !result.transferred_ids.empty()) << result.image_index;
+    iterations_with_transfer += !result.transferred_ids.empty();
+  }
+  EXPECT_GT(iterations_with_transfer, 10);
+  EXPECT_GT(results.back().ltm_size, 0);
+}
+
+// After Close(), the file holds the whole map and every accepted loop closure.
+TEST(DetectorIntegrationTest, MapFileHoldsEveryLocationAndLoopClosure) {
+  const SyntheticRoute route(ShortRoute());
+  testing::TempDir dir;
+  Options options = Deterministic();
+  options.memory.max_wm_locations = 20;
+  std::vector<Result> loops;
+  {
+    Detector detector(options, dir.File("map.db"));
+    for (int index = 0; index < route.size(); ++index) {
+      const Result result = detector.Process(route.Render(index), index);
+      if (result.HasLoopClosure()) loops.push_back(result);
+    }
+    detector.Close();
+    EXPECT_THROW(detector.Process(route.Render(0)), Error);
+  }
+  ASSERT_FALSE(loops.empty());
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kOpen);
+  const auto records = database.ReadLoopClosures();
+  ASSERT_EQ(records.size(), loops.size());
+  for (size_t i = 0; i < loops.size(); ++i) {
+    EXPECT_EQ(records[i].query_image, loops[i].image_index);
+    EXPECT_EQ(records[i].match_image, loops[i].loop_closure_images.front());
+    EXPECT_EQ(records[i].match_location, loops[i].loop_closure_id);
+  }
+  // Every location links only to locations that exist, and every word it holds is stored.
+  const long long count = database.CountLocations();
+  EXPECT_GT(count, 20);
+  int checked = 0;
+  for (LocationId id = 1; checked < count && id < 10000; ++id) {
+    const auto location = database.ReadLocation(id);
+    if (!location) continue;
+    ++checked;
+    for (LocationId link : location->Links()) {
+      EXPECT_TRUE(database.ReadLocation(link).has_value()) << id << " -> " << link;
+    }
+    for (WordId word : location->signature.words) {
+      ASSERT_TRUE(database.ReadWord(word).has_value()) << "word " << word << " of " << id;
+    }
+  }
+  EXPECT_EQ(checked, count);
 }
 
 TEST(DetectorIntegrationTest, BadImageIsRefusedAndNothingChanges) {

@@ -1,10 +1,10 @@
 // Checks on ../shared/datasets when present (a fresh clone has none: the tests skip, saying so).
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
-#include <set>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 
 #include "memloop/detector.h"
 #include "memloop/evaluation.h"
@@ -51,8 +51,12 @@ TEST(RealDataTest, RtabmapSamplesHaveNoFalsePositive) {
     ++images;
   }
   EXPECT_EQ(images, 84);
-  const PrecisionRecall score =
-      Evaluate(detections, [&](int q, int m) { return truth.count({q, m}) > 0; }, images);
+  const PrecisionRecall score = Evaluate(
+      detections,
+      [&](int q, int m) {
+        return truth.count({q, m}) > 0;
+      },
+      images);
   EXPECT_EQ(score.loop_images, 44);
   EXPECT_EQ(score.false_positives, 0);
   EXPECT_GT(score.true_positives, 0);

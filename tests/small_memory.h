@@ -43,7 +43,8 @@ inline std::vector<LocationId> AddChain(Memory& memory,
     for (WordId word : words) {
       if (!memory.dictionary().Contains(word)) AddWords(memory.dictionary(), {word});
     }
-    previous = memory.AddToStm(MakeSignature(words), static_cast<ImageIndex>(ids.size()), previous).id;
+    previous =
+        memory.AddToStm(MakeSignature(words), static_cast<ImageIndex>(ids.size()), previous).id;
     ids.push_back(previous);
   }
   return ids;

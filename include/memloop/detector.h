@@ -10,9 +10,8 @@
 #pragma once
 
 #include <memory>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "memloop/options.h"
 #include "memloop/result.h"

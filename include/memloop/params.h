@@ -12,21 +12,22 @@
 namespace memloop {
 
 struct Parameter {
-  using Accessor = std::variant<int& (*)(Options&), double& (*)(Options&), std::string& (*)(Options&)>;
+  using Accessor =
+      std::variant<int& (*)(Options&), double& (*)(Options&), std::string& (*)(Options&)>;
 
-  std::string key;          // "memory.stm_size"
-  Accessor field;           // where the value lives in Options
-  std::string unit;         // "locations", "ms", "" ...
-  double min = 0;           // numeric range [min, max] (min excluded when min_exclusive)
+  std::string key;   // "memory.stm_size"
+  Accessor field;    // where the value lives in Options
+  std::string unit;  // "locations", "ms", "" ...
+  double min = 0;    // numeric range [min, max] (min excluded when min_exclusive)
   double max = 0;
   bool min_exclusive = false;
   std::vector<std::string> choices;  // allowed values of a string parameter
-  std::string symbol;       // the paper's symbol or equation, "" when none
-  std::string description;  // one line
+  std::string symbol;                // the paper's symbol or equation, "" when none
+  std::string description;           // one line
 
-  std::string TypeName() const;                 // "int", "double", "string"
+  std::string TypeName() const;                   // "int", "double", "string"
   std::string Get(const Options& options) const;  // value as text
-  std::string RangeText() const;                // "[0, 1]", "(0, 1]", "sift|orb"
+  std::string RangeText() const;                  // "[0, 1]", "(0, 1]", "sift|orb"
   // Parses and range-checks `value`, then stores it. Throws ParameterError naming key and value.
   void Set(Options& options, const std::string& value) const;
   // Empty when the value in `options` is valid, else the reason.

@@ -7,11 +7,10 @@
 // detour, then part of a third lap.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace memloop {
 
@@ -19,10 +18,10 @@ struct SyntheticRouteOptions {
   int seed = 7;
   int image_width = 320;
   int image_height = 240;
-  int lap_frames = 80;       // frames per lap of the loop
-  int detour_frames = 30;    // frames of each detour through places seen once
-  int third_lap_frames = 40; // frames of the third lap
-  double step_px = 160;      // camera motion between frames, in world pixels
+  int lap_frames = 80;        // frames per lap of the loop
+  int detour_frames = 30;     // frames of each detour through places seen once
+  int third_lap_frames = 40;  // frames of the third lap
+  double step_px = 160;       // camera motion between frames, in world pixels
   // Two frames of different visits show the same place when their views are this close: 0.6 of
   // the image width, i.e. views overlapping by at least 40%.
   double same_place_fraction = 0.6;
@@ -46,7 +45,7 @@ class SyntheticRoute {
 
  private:
   struct Frame {
-    double x;   // world position of the view's left edge (loop coordinate when in_loop)
+    double x;  // world position of the view's left edge (loop coordinate when in_loop)
     bool in_loop;
     int visit;  // lap number, or -1 on the detour
     double dx, dy, scale, angle_degrees, gain, bias;

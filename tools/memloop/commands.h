@@ -1,10 +1,9 @@
 // The subcommands of the memloop tool, one file each.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "memloop/options.h"
 

@@ -43,11 +43,11 @@ void CsvWriter::Write(const std::string& image_name, const Result& result) {
   out_ << ',' << result.hypothesis_id << ',' << result.hypothesis_value << ','
        << result.virtual_place_probability << ',' << result.rehearsal_merged_id << ','
        << result.feature_count << ',' << result.word_count << ',' << t.total_ms << ','
-       << t.signature_ms << ',' << t.rehearsal_ms << ',' << t.likelihood_ms << ','
-       << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms << ','
-       << t.transfer_ms << ',' << result.stm_size << ',' << result.wm_size << ','
-       << result.ltm_size << ',' << result.dictionary_size << ','
-       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << '\n';
+       << t.signature_ms << ',' << t.rehearsal_ms << ',' << t.likelihood_ms << ',' << t.filter_ms
+       << ',' << t.selection_ms << ',' << t.retrieval_ms << ',' << t.transfer_ms << ','
+       << result.stm_size << ',' << result.wm_size << ',' << result.ltm_size << ','
+       << result.dictionary_size << ',' << Join(result.retrieved_ids) << ','
+       << Join(result.transferred_ids) << '\n';
   if (!out_) throw InputError(path_, "writing the results failed");
 }
 

@@ -53,10 +53,9 @@ void AddDemoCommand(CLI::App& app) {
     RouteSequence sequence(route);
     const Options options = OptionsFromAssignments(arguments->assignments);
     std::cout << "Synthetic route: " << route.size() << " images of " << route_options.image_width
-              << "x" << route_options.image_height << ", "
-              << route.GroundTruthPairs().size() << " ground-truth loop pairs\n";
-    const SessionReport report =
-        RunSession(sequence, options, arguments->database, arguments->out);
+              << "x" << route_options.image_height << ", " << route.GroundTruthPairs().size()
+              << " ground-truth loop pairs\n";
+    const SessionReport report = RunSession(sequence, options, arguments->database, arguments->out);
 
     std::vector<Detection> detections;
     const auto is_loop = [&](ImageIndex a, ImageIndex b) { return route.IsLoop(a, b); };
@@ -78,7 +77,8 @@ void AddDemoCommand(CLI::App& app) {
   generate->add_option("folder", arguments->folder, "Existing folder to write into")
       ->required()
       ->check(CLI::ExistingDirectory);
-  generate->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
+  generate->add_option("--seed", arguments->seed, "Seed of the generated world")
+      ->capture_default_str();
   generate->callback([arguments] {
     SyntheticRouteOptions route_options;
     route_options.seed = arguments->seed;

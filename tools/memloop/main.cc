@@ -1,8 +1,7 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
 // Subcommands: run, demo, generate, params. Errors print "memloop: error: ..." and exit 1.
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "commands.h"
 #include "memloop/errors.h"

@@ -1,7 +1,6 @@
 // memloop params [--json | --markdown]: every parameter from the one registry.
 #include <cstdio>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -26,8 +25,12 @@ void PrintJson() {
   const Options defaults;
   nlohmann::json rows = nlohmann::json::array();
   for (const Parameter& p : Parameters()) {
-    rows.push_back({{"name", p.key}, {"default", p.Get(defaults)}, {"type", p.TypeName()},
-                    {"unit", p.unit}, {"range", p.RangeText()}, {"symbol", p.symbol},
+    rows.push_back({{"name", p.key},
+                    {"default", p.Get(defaults)},
+                    {"type", p.TypeName()},
+                    {"unit", p.unit},
+                    {"range", p.RangeText()},
+                    {"symbol", p.symbol},
                     {"description", p.description}});
   }
   std::cout << rows.dump(2) << "\n";
@@ -39,8 +42,10 @@ void AddParamsCommand(CLI::App& app) {
   auto format = std::make_shared<std::string>("table");
   CLI::App* params = app.add_subcommand("params", "List every parameter with default and range");
   auto* group = params->add_option_group("format");
-  group->add_flag_callback("--json", [format] { *format = "json"; }, "JSON array");
-  group->add_flag_callback("--markdown", [format] { *format = "markdown"; }, "Markdown table");
+  group->add_flag_callback(
+      "--json", [format] { *format = "json"; }, "JSON array");
+  group->add_flag_callback(
+      "--markdown", [format] { *format = "markdown"; }, "Markdown table");
   group->require_option(0, 1);
   params->callback([format] {
     if (*format == "json") {

@@ -17,8 +17,9 @@ void Progress::Update(int done, int loop_closures) {
   constexpr int kWidth = 30;
   if (total_ > 0) {
     const int filled = done * kWidth / total_;
-    std::fprintf(stderr, "\r[%s%s] %d/%d images, %d loop closures", std::string(filled, '#').c_str(),
-                 std::string(kWidth - filled, ' ').c_str(), done, total_, loop_closures);
+    std::fprintf(stderr, "\r[%s%s] %d/%d images, %d loop closures",
+                 std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), done,
+                 total_, loop_closures);
   } else {
     std::fprintf(stderr, "\r%d images, %d loop closures", done, loop_closures);
   }

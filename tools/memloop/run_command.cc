@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "commands.h"
-#include "memloop/image_sequence.h"
 #include "memloop/errors.h"
+#include "memloop/image_sequence.h"
 #include "session.h"
 
 namespace memloop::cli {
@@ -34,8 +34,8 @@ void AddRunCommand(CLI::App& app) {
     }
     std::cout << Summary(report) << "\n";
     if (report.results.empty()) {
-      throw InputError(arguments->input, "no readable image (" +
-                                             std::to_string(report.skipped) + " skipped)");
+      throw InputError(arguments->input,
+                       "no readable image (" + std::to_string(report.skipped) + " skipped)");
     }
   });
 }

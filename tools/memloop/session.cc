@@ -1,5 +1,6 @@
 #include "session.h"
 
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -7,8 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-
-#include <spdlog/spdlog.h>
 
 #include "csv_writer.h"
 #include "memloop/detector.h"
@@ -24,8 +23,8 @@ class TemporaryDatabase {
  public:
   TemporaryDatabase() {
     static std::atomic<int> counter{0};
-    path_ = (fs::temp_directory_path() / ("memloop-" + std::to_string(getpid()) + "-" +
-                                          std::to_string(counter++) + ".db"))
+    path_ = (fs::temp_directory_path() /
+             ("memloop-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".db"))
                 .string();
   }
   ~TemporaryDatabase() {
