@@ -1,0 +1,94 @@
+// Kernels of the per-image cycle, one thread: feature extraction, quantization into the
+// dictionary, the likelihood over WM and the Bayes filter update. Run: bench/run_bench.sh, or
+// ./build/bench/memloop_benchmarks --benchmark_repetitions=5 --benchmark_report_aggregates_only.
+#include <benchmark/benchmark.h>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "bayes_filter.h"
+#include "dictionary.h"
+#include "likelihood.h"
+#include "memloop/feature_extractor.h"
+#include "memloop/synthetic_route.h"
+
+namespace memloop {
+namespace {
+
+cv::Mat RandomDescriptors(int rows, uint64_t seed) {
+  cv::Mat descriptors(rows, 128, CV_32F);
+  cv::RNG(seed).fill(descriptors, cv::RNG::UNIFORM, 0.0, 1.0);
+  return descriptors;
+}
+
+cv::Mat RouteImage(int width, int height) {
+  SyntheticRouteOptions options;
+  options.image_width = width;
+  options.image_height = height;
+  cv::Mat gray;
+  cv::cvtColor(SyntheticRoute(options).Render(3), gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+void BM_SiftExtract512x384(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const cv::Mat image = RouteImage(512, 384);
+  const auto extractor = FeatureExtractor::Create(FeatureOptions());
+  size_t keypoints = 0;
+  for (auto _ : state) keypoints = extractor->Extract(image).keypoints.size();
+  state.counters["keypoints"] = static_cast<double>(keypoints);
+}
+BENCHMARK(BM_SiftExtract512x384)->Unit(benchmark::kMillisecond);
+
+// Matching one image's 400 descriptors against a dictionary of N words.
+void BM_DictionaryMatch(benchmark::State& state) {
+  Dictionary dictionary(128, DictionaryOptions());
+  std::vector<WordId> ids;
+  for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
+  dictionary.Add(ids, RandomDescriptors(static_cast<int>(ids.size()), 1));
+  const cv::Mat queries = RandomDescriptors(400, 2);
+  for (auto _ : state) benchmark::DoNotOptimize(dictionary.Match(queries));
+}
+BENCHMARK(BM_DictionaryMatch)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+// Adding 400 words and removing 400 others: the incremental update of the forest.
+void BM_DictionaryAddRemove(benchmark::State& state) {
+  Dictionary dictionary(128, DictionaryOptions());
+  std::vector<WordId> ids;
+  for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
+  dictionary.Add(ids, RandomDescriptors(static_cast<int>(ids.size()), 1));
+  const cv::Mat batch = RandomDescriptors(400, 3);
+  WordId next = static_cast<WordId>(ids.size()) + 1;
+  WordId oldest = 1;
+  for (auto _ : state) {
+    std::vector<WordId> added;
+    for (int i = 0; i < 400; ++i) added.push_back(next++);
+    dictionary.Add(added, batch);
+    for (int i = 0; i < 400; ++i) dictionary.Remove(oldest++);
+  }
+}
+BENCHMARK(BM_DictionaryAddRemove)->Arg(10000)->Arg(50000)->Unit(benchmark::kMillisecond);
+
+// Eq. 3-4 from N scores, and eq. 2 over a chain of N locations.
+void BM_LikelihoodAndFilter(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::map<LocationId, double> scores;
+  Neighbourhoods neighbourhoods;
+  for (int id = 1; id <= n; ++id) {
+    scores[id] = (id % 7) * 0.02;
+    for (int d = -4; d <= 4; ++d) {
+      if (id + d >= 1 && id + d <= n) neighbourhoods[id].emplace_back(id + d, std::abs(d));
+    }
+  }
+  BayesFilter filter{FilterOptions()};
+  for (auto _ : state) {
+    const Likelihood likelihood = ComputeLikelihood(scores);
+    filter.Update(likelihood, neighbourhoods);
+  }
+}
+BENCHMARK(BM_LikelihoodAndFilter)->Arg(100)->Arg(1000)->Arg(5000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace memloop
+
+BENCHMARK_MAIN();
