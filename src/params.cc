@@ -8,181 +8,89 @@
 namespace memloop {
 namespace {
 
+// Builds one row of the registry: Param(key, field).Unit(..).Range(..).Help(..).
+class Param {
+ public:
+  Param(std::string key, Parameter::Accessor field) {
+    row_.key = std::move(key), row_.field = field;
+  }
+  Param& Unit(std::string unit) { return row_.unit = std::move(unit), *this; }
+  Param& Range(double min, double max) { return row_.min = min, row_.max = max, *this; }
+  Param& AboveRange(double min, double max) {
+    return Range(min, max), row_.min_exclusive = true, *this;
+  }
+  Param& Choices(std::vector<std::string> choices) {
+    return row_.choices = std::move(choices), *this;
+  }
+  Param& Symbol(std::string symbol) { return row_.symbol = std::move(symbol), *this; }
+  Param& Help(std::string description) { return row_.description = std::move(description), *this; }
+  operator Parameter() const { return row_; }
+
+ private:
+  Parameter row_;
+};
+
 #define MEMLOOP_FIELD(path)   \
   +[](Options & o) -> auto& { \
     return o.path;            \
   }
 
+// clang-format off
 std::vector<Parameter> MakeRegistry() {
   constexpr double kHuge = 1e9;
   return {
-      {"features.type",
-       MEMLOOP_FIELD(features.type),
-       "",
-       0,
-       0,
-       false,
-       {"sift"},
-       "",
-       "Feature backend: sift (OpenCV SIFT, 128-d float descriptors)"},
-      {"features.max_features",
-       MEMLOOP_FIELD(features.max_features),
-       "keypoints",
-       0,
-       100000,
-       false,
-       {},
-       "",
-       "Strongest keypoints kept per image (0 = all)"},
-      {"dictionary.nndr_ratio",
-       MEMLOOP_FIELD(dictionary.nndr_ratio),
-       "",
-       0,
-       1,
-       true,
-       {},
-       "",
-       "Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"},
-      {"dictionary.kd_trees",
-       MEMLOOP_FIELD(dictionary.kd_trees),
-       "trees",
-       1,
-       64,
-       false,
-       {},
-       "",
-       "Randomized kd-trees in the dictionary's forest (FLANN)"},
-      {"dictionary.kd_checks",
-       MEMLOOP_FIELD(dictionary.kd_checks),
-       "leaves",
-       1,
-       100000,
-       false,
-       {},
-       "",
-       "Leaves visited per nearest-neighbour search (FLANN checks)"},
-      {"dictionary.rebuild_fraction",
-       MEMLOOP_FIELD(dictionary.rebuild_fraction),
-       "",
-       0,
-       100,
-       true,
-       {},
-       "",
-       "Rebuild the forest when points added+removed since the last build exceed "
-       "this fraction of its size then"},
-      {"dictionary.seed",
-       MEMLOOP_FIELD(dictionary.seed),
-       "",
-       0,
-       2147483647,
-       false,
-       {},
-       "",
-       "Seed of the forest's random splits (repeatable runs)"},
-      {"memory.stm_size",
-       MEMLOOP_FIELD(memory.stm_size),
-       "locations",
-       0,
-       100000,
-       false,
-       {},
-       "STM size",
-       "Newest locations kept out of loop closure detection"},
-      {"memory.rehearsal_threshold",
-       MEMLOOP_FIELD(memory.rehearsal_threshold),
-       "",
-       0,
-       1,
-       false,
-       {},
-       "T_rehearsal (eq. 1)",
-       "Similarity above which the compared STM location is merged"},
-      {"memory.time_limit_ms",
-       MEMLOOP_FIELD(memory.time_limit_ms),
-       "ms",
-       0,
-       kHuge,
-       false,
-       {},
-       "T_time",
-       "Iteration time above which WM locations go to LTM (0 = infinity)"},
-      {"memory.max_wm_locations",
-       MEMLOOP_FIELD(memory.max_wm_locations),
-       "locations",
-       0,
-       kHuge,
-       false,
-       {},
-       "",
-       "Deterministic budget: transfer while WM is larger (0 = none)"},
-      {"memory.max_dictionary_words",
-       MEMLOOP_FIELD(memory.max_dictionary_words),
-       "words",
-       0,
-       kHuge,
-       false,
-       {},
-       "",
-       "Deterministic budget: transfer while the dictionary is larger "
-       "(0 = none)"},
-      {"memory.max_retrieved",
-       MEMLOOP_FIELD(memory.max_retrieved),
-       "locations",
-       0,
-       1000,
-       false,
-       {},
-       "",
-       "Locations retrieved from LTM per iteration, at most"},
-      {"filter.loop_threshold",
-       MEMLOOP_FIELD(filter.loop_threshold),
-       "",
-       0,
-       1,
-       false,
-       {},
-       "T_loop",
-       "Neighbour-summed posterior above which a loop closure is accepted"},
-      {"filter.min_hypotheses",
-       MEMLOOP_FIELD(filter.min_hypotheses),
-       "locations",
-       0,
-       100000,
-       false,
-       {},
-       "T_minHyp",
-       "WM locations needed before a loop closure can be accepted"},
-      {"filter.virtual_place_stay",
-       MEMLOOP_FIELD(filter.virtual_place_stay),
-       "",
-       0,
-       1,
-       false,
-       {},
-       "p(S_t=-1|S_t-1=-1)",
-       "Transition: new location after new location (1 - it: to a "
-       "loop closure)"},
-      {"filter.neighbour_range",
-       MEMLOOP_FIELD(filter.neighbour_range),
-       "links",
-       0,
-       100,
-       false,
-       {},
-       "",
-       "Transition and hypothesis sum reach this many links from a location"},
-      {"filter.neighbour_sigma",
-       MEMLOOP_FIELD(filter.neighbour_sigma),
-       "links",
-       0,
-       100,
-       true,
-       {},
-       "",
-       "Standard deviation of the transition model's discretized Gaussian"},
+    Param("features.type", MEMLOOP_FIELD(features.type)).Choices({"surf", "sift"})
+        .Help("Feature backend: surf (memloop's SURF, 64-d), sift (OpenCV SIFT, 128-d)"),
+    Param("features.max_features", MEMLOOP_FIELD(features.max_features)).Unit("keypoints")
+        .Range(0, 100000).Help("Strongest keypoints kept per image (0 = all)"),
+    Param("surf.hessian_threshold", MEMLOOP_FIELD(features.surf_hessian_threshold))
+        .Range(0, kHuge).Help("SURF: minimum det(H) of a keypoint, on 0-255 intensities (as OpenCV)"),
+    Param("surf.octaves", MEMLOOP_FIELD(features.surf_octaves)).Range(1, 8)
+        .Help("SURF: octaves of filter sizes"),
+    Param("surf.intervals", MEMLOOP_FIELD(features.surf_intervals)).Range(3, 8)
+        .Help("SURF: filter sizes per octave (maxima are searched in the inner ones)"),
+    Param("surf.sample_step", MEMLOOP_FIELD(features.surf_sample_step)).Unit("pixels").Range(1, 8)
+        .Help("SURF: sampling step of the first octave, doubled per octave"),
+    Param("surf.extended", MEMLOOP_FIELD(features.surf_extended)).Range(0, 1)
+        .Help("SURF: 1 for 128-d descriptors, 0 for 64-d"),
+    Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Range(0, 1)
+        .Help("SURF: 1 for U-SURF (no orientation: faster, not rotation invariant)"),
+    Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
+        .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
+    Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
+        .Help("Randomized kd-trees in the dictionary's forest (FLANN)"),
+    Param("dictionary.kd_checks", MEMLOOP_FIELD(dictionary.kd_checks)).Unit("leaves").Range(1, 100000)
+        .Help("Leaves visited per nearest-neighbour search (FLANN checks)"),
+    Param("dictionary.rebuild_fraction", MEMLOOP_FIELD(dictionary.rebuild_fraction)).AboveRange(0, 100)
+        .Help("Rebuild the forest when points added+removed since the last build exceed this fraction of its size then"),
+    Param("dictionary.seed", MEMLOOP_FIELD(dictionary.seed)).Range(0, 2147483647)
+        .Help("Seed of the forest's random splits (repeatable runs)"),
+    Param("memory.stm_size", MEMLOOP_FIELD(memory.stm_size)).Unit("locations").Range(0, 100000)
+        .Symbol("STM size").Help("Newest locations kept out of loop closure detection"),
+    Param("memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold)).Range(0, 1)
+        .Symbol("T_rehearsal (eq. 1)").Help("Similarity above which the compared STM location is merged"),
+    Param("memory.time_limit_ms", MEMLOOP_FIELD(memory.time_limit_ms)).Unit("ms").Range(0, kHuge)
+        .Symbol("T_time").Help("Iteration time above which WM locations go to LTM (0 = infinity)"),
+    Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
+        .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
+    Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
+        .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none)"),
+    Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
+        .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
+    Param("filter.loop_threshold", MEMLOOP_FIELD(filter.loop_threshold)).Range(0, 1)
+        .Symbol("T_loop").Help("Neighbour-summed posterior above which a loop closure is accepted"),
+    Param("filter.min_hypotheses", MEMLOOP_FIELD(filter.min_hypotheses)).Unit("locations")
+        .Range(0, 100000).Symbol("T_minHyp").Help("WM locations needed before a loop closure can be accepted"),
+    Param("filter.virtual_place_stay", MEMLOOP_FIELD(filter.virtual_place_stay)).Range(0, 1)
+        .Symbol("p(S_t=-1|S_t-1=-1)")
+        .Help("Transition: new location after new location; 1 minus it goes to loop closures"),
+    Param("filter.neighbour_range", MEMLOOP_FIELD(filter.neighbour_range)).Unit("links").Range(0, 100)
+        .Help("Transition and hypothesis sum reach this many links from a location"),
+    Param("filter.neighbour_sigma", MEMLOOP_FIELD(filter.neighbour_sigma)).Unit("links")
+        .AboveRange(0, 100).Help("Standard deviation of the transition model's discretized Gaussian"),
   };
 }
+// clang-format on
 
 #undef MEMLOOP_FIELD
 

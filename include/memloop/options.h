@@ -9,10 +9,20 @@
 namespace memloop {
 
 struct FeatureOptions {
-  // Feature backend: "sift" (OpenCV SIFT, float descriptors).
-  std::string type = "sift";
+  // Feature backend: "surf" (memloop's SURF, the paper's), "sift" (OpenCV).
+  std::string type = "surf";
   // Keep at most this many strongest keypoints per image (0 = all).
   int max_features = 400;
+
+  // SURF (Bay et al. 2008): octaves, intervals and step as in the SURF paper.
+  // det(H) of 0-255 intensities. Low, so that the max_features strongest decide, as the paper-era
+  // "400 strongest" does: docs/surf.md has the measurements behind it.
+  double surf_hessian_threshold = 50;
+  int surf_octaves = 4;
+  int surf_intervals = 4;
+  int surf_sample_step = 2;  // pixels, first octave; doubled per octave
+  int surf_extended = 0;     // 1: 128-d descriptors
+  int surf_upright = 0;      // 1: U-SURF, no orientation
 };
 
 struct DictionaryOptions {
