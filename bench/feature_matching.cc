@@ -1,11 +1,11 @@
 // Repeatability and matching score of each feature backend under known transformations, on the
 // images of a folder (default: ../shared/datasets/rtabmap_samples/images, every 10th image) or on
 // generated textures when the folder is absent. Prints a Markdown table.
-// Usage: feature_matching [FOLDER] [--set NAME=VALUE ...] (parameters as memloop's)
+// Backends: surf (defaults), surf h400 (Hessian threshold 400: about as many keypoints as SIFT),
+// sift, orb. Usage: feature_matching [FOLDER] [--set NAME=VALUE ...] (parameters as memloop's)
 #include <cstdio>
 #include <filesystem>
 #include <map>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -49,9 +49,10 @@ int main(int argc, char** argv) {
   std::printf("| transformation | backend | keypoints | repeatability | matching score |\n");
   std::printf("| --- | --- | --- | --- | --- |\n");
   for (const auto& transformation : StandardTransformations(images.front().size())) {
-    for (const char* backend : {"surf", "sift"}) {
+    for (const std::string backend : {"surf", "surf h400", "sift", "orb"}) {
       FeatureOptions feature_options = options.features;
-      feature_options.type = backend;
+      feature_options.type = backend.substr(0, 4);
+      if (backend == "surf h400") feature_options.surf_hessian_threshold = 400;
       const auto extractor = FeatureExtractor::Create(feature_options);
       double keypoints = 0, repeatability = 0, matching = 0;
       for (const cv::Mat& image : images) {
@@ -61,8 +62,8 @@ int main(int argc, char** argv) {
         matching += score.matching_score;
       }
       const double n = static_cast<double>(images.size());
-      std::printf("| %s | %s | %.0f | %.2f | %.2f |\n", transformation.name.c_str(), backend,
-                  keypoints / n, repeatability / n, matching / n);
+      std::printf("| %s | %s | %.0f | %.2f | %.2f |\n", transformation.name.c_str(),
+                  backend.c_str(), keypoints / n, repeatability / n, matching / n);
     }
   }
   return 0;

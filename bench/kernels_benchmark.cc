@@ -3,13 +3,16 @@
 // ./build/bench/memloop_benchmarks --benchmark_repetitions=5 --benchmark_report_aggregates_only.
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "bayes_filter.h"
 #include "dictionary.h"
 #include "likelihood.h"
 #include "memloop/feature_extractor.h"
+#include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
 
 namespace memloop {
@@ -21,28 +24,72 @@ cv::Mat RandomDescriptors(int rows, uint64_t seed) {
   return descriptors;
 }
 
-cv::Mat RouteImage(int width, int height) {
+cv::Mat RouteImage(int width, int height, int frame) {
   SyntheticRouteOptions options;
   options.image_width = width;
   options.image_height = height;
   cv::Mat gray;
-  cv::cvtColor(SyntheticRoute(options).Render(3), gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(SyntheticRoute(options).Render(frame), gray, cv::COLOR_BGR2GRAY);
   return gray;
 }
 
-void BM_SiftExtract512x384(benchmark::State& state) {
-  cv::setNumThreads(1);
-  const cv::Mat image = RouteImage(512, 384);
-  const auto extractor = FeatureExtractor::Create(FeatureOptions());
-  size_t keypoints = 0;
-  for (auto _ : state) keypoints = extractor->Extract(image).keypoints.size();
-  state.counters["keypoints"] = static_cast<double>(keypoints);
+// Detect + describe, one thread, over a set of 512x384 images (cycled): the shared real images
+// when present (MEMLOOP_IMAGES or ../shared/datasets/rtabmap_samples/images), generated ones
+// otherwise. Counter "keypoints": mean per image.
+const std::vector<cv::Mat>& BenchImages(bool real) {
+  static const std::vector<cv::Mat> generated = [] {
+    std::vector<cv::Mat> images;
+    for (int frame = 0; frame < 10; ++frame) images.push_back(RouteImage(512, 384, frame * 7));
+    return images;
+  }();
+  static const std::vector<cv::Mat> shared = [] {
+    std::vector<cv::Mat> images;
+    const char* folder = std::getenv("MEMLOOP_IMAGES");
+    const std::string path = folder ? folder : "../shared/datasets/rtabmap_samples/images";
+    if (!std::filesystem::is_directory(path)) return images;
+    for (const std::string& name : ListFolder(path)) {
+      images.push_back(cv::imread(path + "/" + name, cv::IMREAD_GRAYSCALE));
+    }
+    return images;
+  }();
+  return real ? shared : generated;
 }
-BENCHMARK(BM_SiftExtract512x384)->Unit(benchmark::kMillisecond);
+
+// Args: 0 generated / 1 real images; backend; SURF Hessian threshold.
+void Extract(benchmark::State& state, const std::string& backend, bool real, double threshold) {
+  cv::setNumThreads(1);
+  const auto& images = BenchImages(real);
+  if (images.empty()) {
+    state.SkipWithError("no real images (../shared absent)");
+    return;
+  }
+  FeatureOptions options;
+  options.type = backend;
+  options.surf_hessian_threshold = threshold;
+  const auto extractor = FeatureExtractor::Create(options);
+  size_t keypoints = 0;
+  size_t count = 0;
+  for (auto _ : state) {
+    keypoints += extractor->Extract(images[count++ % images.size()]).keypoints.size();
+  }
+  state.counters["keypoints"] = static_cast<double>(keypoints) / count;
+}
+BENCHMARK_CAPTURE(Extract, sift_generated, std::string("sift"), false, 0)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, surf_generated, std::string("surf"), false, 50)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, orb_generated, std::string("orb"), false, 0)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, sift_real, std::string("sift"), true, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, orb_real, std::string("orb"), true, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, surf_real_h400, std::string("surf"), true, 400)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Extract, surf_real_h50, std::string("surf"), true, 50)
+    ->Unit(benchmark::kMillisecond);
 
 // Matching one image's 400 descriptors against a dictionary of N words.
 void BM_DictionaryMatch(benchmark::State& state) {
-  Dictionary dictionary(128, DictionaryOptions());
+  Dictionary dictionary(DescriptorKind::kFloat, 128, DictionaryOptions());
   std::vector<WordId> ids;
   for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
   dictionary.Add(ids, RandomDescriptors(static_cast<int>(ids.size()), 1));
@@ -53,7 +100,7 @@ BENCHMARK(BM_DictionaryMatch)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchma
 
 // Adding 400 words and removing 400 others: the incremental update of the forest.
 void BM_DictionaryAddRemove(benchmark::State& state) {
-  Dictionary dictionary(128, DictionaryOptions());
+  Dictionary dictionary(DescriptorKind::kFloat, 128, DictionaryOptions());
   std::vector<WordId> ids;
   for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
   dictionary.Add(ids, RandomDescriptors(static_cast<int>(ids.size()), 1));

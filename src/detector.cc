@@ -49,7 +49,7 @@ class Detector::Impl {
   Impl(const Options& options, const std::string& database_path)
       : options_(Validated(options)),
         extractor_(FeatureExtractor::Create(options.features)),
-        memory_(extractor_->DescriptorDim(), options.dictionary),
+        memory_(extractor_->Kind(), extractor_->DescriptorDim(), options.dictionary),
         filter_(options.filter),
         ltm_(database_path) {
     for (const Parameter& parameter : Parameters()) {
@@ -97,10 +97,7 @@ class Detector::Impl {
     for (LocationId id : memory_.working_memory()) {
       for (WordId word : memory_.at(id).signature.words) words.insert(word);
     }
-    for (WordId word : words) {
-      const cv::Mat descriptor = dictionary.Descriptor(word);
-      ltm_.StoreWord(word, std::vector<float>(descriptor.begin<float>(), descriptor.end<float>()));
-    }
+    for (WordId word : words) ltm_.StoreWord(word, dictionary.Descriptor(word));
     ltm_.Flush();
   }
 

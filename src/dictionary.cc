@@ -2,14 +2,30 @@
 
 #include <cassert>
 
+#include "memloop/errors.h"
+
 namespace memloop {
 
-Dictionary::Dictionary(int descriptor_dim, const DictionaryOptions& options)
-    : options_(options), forest_(descriptor_dim, options) {}
+Dictionary::Dictionary(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& options)
+    : options_(options), index_(WordIndex::Create(kind, descriptor_dim, options)) {}
+
+void Dictionary::CheckDescriptors(const cv::Mat& descriptors) const {
+  if (descriptors.empty()) return;
+  if (descriptors.type() != descriptor_cv_type() || descriptors.cols != descriptor_dim()) {
+    const auto describe = [](int type, int cols) {
+      return std::to_string(cols) + (type == CV_8U ? "-byte binary" : "-d float");
+    };
+    throw Error("descriptors of another kind: this map's words are " +
+                describe(descriptor_cv_type(), descriptor_dim()) + " descriptors, these are " +
+                describe(descriptors.type(), descriptors.cols) +
+                " (one map holds one feature type: start a new map to change features.type)");
+  }
+}
 
 std::vector<WordId> Dictionary::Match(const cv::Mat& descriptors) const {
+  CheckDescriptors(descriptors);
   std::vector<WordId> matches(descriptors.rows, kNoWord);
-  const auto neighbours = forest_.Search(descriptors);
+  const auto neighbours = index_->Search(descriptors);
   for (int row = 0; row < descriptors.rows; ++row) {
     const Neighbour& first = neighbours[row][0];
     const Neighbour& second = neighbours[row][1];
@@ -38,7 +54,8 @@ std::vector<WordId> Dictionary::Quantize(const cv::Mat& descriptors, int* new_wo
 
 void Dictionary::Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) {
   if (ids.empty()) return;
-  forest_.Add(ids, descriptors);
+  CheckDescriptors(descriptors);
+  index_->Add(ids, descriptors);
   for (WordId id : ids) {
     assert(!Contains(id));
     words_[id];
@@ -48,15 +65,11 @@ void Dictionary::Add(const std::vector<WordId>& ids, const cv::Mat& descriptors)
 
 void Dictionary::Remove(WordId id) {
   assert(References(id).empty());
-  forest_.Remove(id);
+  index_->Remove(id);
   words_.erase(id);
 }
 
-cv::Mat Dictionary::Descriptor(WordId id) const {
-  const float* data = forest_.Descriptor(id);
-  if (data == nullptr) return {};
-  return cv::Mat(1, forest_.dim(), CV_32F, const_cast<float*>(data)).clone();
-}
+cv::Mat Dictionary::Descriptor(WordId id) const { return index_->Descriptor(id); }
 
 void Dictionary::AddReference(WordId id, LocationId location) {
   assert(Contains(id));

@@ -8,18 +8,20 @@
 #include <unordered_map>
 #include <vector>
 
-#include "kd_forest.h"
 #include "memloop/options.h"
 #include "memloop/types.h"
+#include "word_index.h"
 
 namespace memloop {
 
 class Dictionary {
  public:
-  Dictionary(int descriptor_dim, const DictionaryOptions& options);
+  // Throws Error when `kind` and `descriptor_dim` are not a valid pair.
+  Dictionary(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& options);
 
   // For each row, the nearest word when it passes the nearest-neighbour distance ratio test
-  // (d1 < nndr_ratio * d2, true distances), else kNoWord. A lone word passes.
+  // (d1 < nndr_ratio * d2, true distances), else kNoWord. A lone word passes. Throws Error when
+  // the descriptors are not of the dictionary's kind and size (one map, one feature type).
   std::vector<WordId> Match(const cv::Mat& descriptors) const;
 
   // Quantization of a new signature: Match(), then every row that matched nothing becomes a
@@ -36,8 +38,10 @@ class Dictionary {
   // The word's descriptor as a 1-row matrix (a copy).
   cv::Mat Descriptor(WordId id) const;
   size_t size() const { return words_.size(); }
-  int descriptor_dim() const { return forest_.dim(); }
-  const KdForest& forest() const { return forest_; }
+  int descriptor_dim() const { return index_->dim(); }
+  DescriptorKind descriptor_kind() const { return index_->kind(); }
+  int descriptor_cv_type() const { return index_->cv_type(); }
+  const WordIndex& index() const { return *index_; }
 
   // References: how many times each location's signature holds the word.
   void AddReference(WordId id, LocationId location);
@@ -60,7 +64,9 @@ class Dictionary {
   };
 
   DictionaryOptions options_;
-  KdForest forest_;
+  void CheckDescriptors(const cv::Mat& descriptors) const;
+
+  std::unique_ptr<WordIndex> index_;
   std::unordered_map<WordId, Word> words_;
   WordId next_word_id_ = 1;
 };

@@ -2,13 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include "memloop/errors.h"
 #include "small_memory.h"
 
 namespace memloop {
 namespace {
 
 TEST(DictionaryTest, RatioTestOnTrueDistances) {
-  Dictionary dictionary(2, testing::SmallDictionaryOptions());
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   dictionary.Add({1, 2}, (cv::Mat_<float>(2, 2) << 0, 0, 10, 0));
   // (1,0): d1 = 1 < 0.8 * d2 = 7.2 -> word 1. (4,0): d1 = 4 < 0.8 * 6 = 4.8 -> word 1.
   // (4.5,0): d1 = 4.5 > 0.8 * 5.5 = 4.4 -> none (squared distances would have passed:
@@ -18,7 +19,7 @@ TEST(DictionaryTest, RatioTestOnTrueDistances) {
 }
 
 TEST(DictionaryTest, QuantizeCreatesWordsForUnmatchedDescriptors) {
-  Dictionary dictionary(2, testing::SmallDictionaryOptions());
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   dictionary.Add({1, 2}, (cv::Mat_<float>(2, 2) << 0, 0, 10, 0));
   // Rows 2 and 3 are close to each other but belong to one image: both become new words.
   const cv::Mat descriptors = (cv::Mat_<float>(3, 2) << 1, 0, 5, 0, 5.1f, 0);
@@ -32,7 +33,7 @@ TEST(DictionaryTest, QuantizeCreatesWordsForUnmatchedDescriptors) {
 }
 
 TEST(DictionaryTest, ReferencesAreTheInvertedIndex) {
-  Dictionary dictionary(2, testing::SmallDictionaryOptions());
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   testing::AddWords(dictionary, {1});
   dictionary.AddReference(1, 10);
   dictionary.AddReference(1, 10);
@@ -44,6 +45,20 @@ TEST(DictionaryTest, ReferencesAreTheInvertedIndex) {
   EXPECT_FALSE(dictionary.Contains(1));
   EXPECT_TRUE(dictionary.References(1).empty());
   EXPECT_EQ(dictionary.next_word_id(), 2);  // ids are never reused
+}
+
+TEST(DictionaryTest, OneMapOneDescriptorKind) {
+  Dictionary dictionary(DescriptorKind::kFloat, 64, DictionaryOptions());
+  const cv::Mat binary(3, 32, CV_8U, cv::Scalar(7));
+  try {
+    dictionary.Quantize(binary, nullptr);
+    FAIL() << "binary descriptors accepted by a float dictionary";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("64-d float"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("32-byte binary"), std::string::npos);
+  }
+  EXPECT_THROW(dictionary.Match(cv::Mat(2, 128, CV_32F, cv::Scalar(0))), Error);
+  EXPECT_EQ(dictionary.size(), 0u);  // nothing was added
 }
 
 }  // namespace

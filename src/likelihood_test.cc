@@ -28,7 +28,7 @@ TEST(LikelihoodTest, NoSimilarLocationMakesTheVirtualPlaceLikely) {
 }
 
 TEST(LikelihoodTest, ScoresOfWorkingMemoryAreEquation1) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1, 2, 3}, {3, 4}, {5, 6, 7, 8}, {1, 3, 4, 9}});
   memory.MoveStmOverflowToWm(1);  // the last one stays in STM: it is L_t
   const Signature& z_t = memory.at(ids[3]).signature;

@@ -56,8 +56,10 @@ void LongTermMemory::Store(const Location& location) {
   Enqueue(StoreLocation{location});
 }
 
-void LongTermMemory::StoreWord(WordId id, std::vector<float> descriptor) {
-  Enqueue(StoreWordOp{id, std::move(descriptor)});
+void LongTermMemory::StoreWord(WordId id, const cv::Mat& descriptor) {
+  const cv::Mat row = descriptor.isContinuous() ? descriptor : descriptor.clone();
+  const unsigned char* bytes = row.ptr<unsigned char>();
+  Enqueue(StoreWordOp{id, std::vector<unsigned char>(bytes, bytes + row.total() * row.elemSize())});
 }
 
 void LongTermMemory::ReplaceWord(WordId old_id, WordId new_id) {
@@ -122,7 +124,7 @@ std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
   return location;
 }
 
-std::optional<std::vector<float>> LongTermMemory::LoadWord(WordId id) {
+std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto pending = pending_words_.find(id);
   if (pending != pending_words_.end()) return pending->second.second;

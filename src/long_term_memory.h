@@ -32,11 +32,12 @@ class LongTermMemory {
 
   // Transfer (III-F): the location is in LTM from now on.
   void Store(const Location& location);
-  // A word that left the dictionary while LTM locations refer to it.
-  void StoreWord(WordId id, std::vector<float> descriptor);
+  // A word that left the dictionary while LTM locations refer to it: its descriptor row.
+  void StoreWord(WordId id, const cv::Mat& descriptor);
   // Retrieval (III-E): the location goes back to WM (its rows stay until it is stored again).
   std::optional<Location> Retrieve(LocationId id);
-  std::optional<std::vector<float>> LoadWord(WordId id);
+  // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
+  std::optional<std::vector<unsigned char>> LoadWord(WordId id);
   // Links of a location in LTM, sorted; empty when it is not in LTM.
   std::vector<LocationId> LinksOf(LocationId id);
   bool Contains(LocationId id) const { return ids_.count(id) > 0; }
@@ -57,7 +58,7 @@ class LongTermMemory {
   };
   struct StoreWordOp {
     WordId id;
-    std::vector<float> descriptor;
+    std::vector<unsigned char> descriptor;
   };
   struct ReplaceWordOp {
     WordId old_id;
@@ -99,7 +100,7 @@ class LongTermMemory {
   long long committed_sequence_ = 0;
   // Queued, not yet committed: what reads must see. Values: (sequence of the write, data).
   std::map<LocationId, std::pair<long long, Location>> pending_locations_;
-  std::map<WordId, std::pair<long long, std::vector<float>>> pending_words_;
+  std::map<WordId, std::pair<long long, std::vector<unsigned char>>> pending_words_;
   std::map<WordId, std::pair<long long, WordId>> pending_renames_;
   std::map<LocationId, std::pair<long long, LocationId>> pending_redirects_;
   bool stopping_ = false;

@@ -24,12 +24,12 @@ TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
   testing::TempDir dir;
   LongTermMemory ltm(dir.File("map.db"));
   ltm.Store(MakeLocation(5, {1, 2}));
-  ltm.StoreWord(2, {0.5f, 0.25f});
+  ltm.StoreWord(2, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
   EXPECT_TRUE(ltm.Contains(5));
   EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6}));
-  EXPECT_EQ(*ltm.LoadWord(2), (std::vector<float>{0.5f, 0.25f}));
+  EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
   ltm.Flush();
-  EXPECT_EQ(*ltm.LoadWord(2), (std::vector<float>{0.5f, 0.25f}));
+  EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
   ltm.RedirectLocation(6, 9);  // 6 was merged into 9
   EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 9}));
   const auto location = ltm.Retrieve(5);

@@ -142,10 +142,10 @@ void LtmDatabase::WriteLocation(const Location& location) {
   }
 }
 
-void LtmDatabase::WriteWord(WordId id, const std::vector<float>& descriptor) {
+void LtmDatabase::WriteWord(WordId id, const std::vector<unsigned char>& descriptor) {
   Cached("INSERT OR REPLACE INTO words(id, descriptor) VALUES(?,?)")
       .Bind(1, static_cast<long long>(id))
-      .BindBlob(2, descriptor.data(), static_cast<int>(descriptor.size() * sizeof(float)))
+      .BindBlob(2, descriptor.data(), static_cast<int>(descriptor.size()))
       .Run();
 }
 
@@ -227,11 +227,11 @@ std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
   return location;
 }
 
-std::optional<std::vector<float>> LtmDatabase::ReadWord(WordId id) {
+std::optional<std::vector<unsigned char>> LtmDatabase::ReadWord(WordId id) {
   auto& query = Cached("SELECT descriptor FROM words WHERE id=?");
   query.Bind(1, static_cast<long long>(id));
-  std::optional<std::vector<float>> descriptor;
-  if (query.Step()) descriptor = query.FloatBlob(0);
+  std::optional<std::vector<unsigned char>> descriptor;
+  if (query.Step()) descriptor = query.Blob(0);
   query.Reset();
   return descriptor;
 }

@@ -39,7 +39,8 @@ class LtmDatabase {
   void Commit();
 
   void WriteLocation(const Location& location);
-  void WriteWord(WordId id, const std::vector<float>& descriptor);
+  // A word's descriptor, as the bytes of its row (float or binary: the map's info says which).
+  void WriteWord(WordId id, const std::vector<unsigned char>& descriptor);
   // Re-matched word (III-E): every reference to `old_id` becomes `new_id`; the old word goes.
   void ReplaceWord(WordId old_id, WordId new_id);
   // `absorbed` was merged into `survivor`: links to it now point to the survivor; its row goes.
@@ -48,7 +49,7 @@ class LtmDatabase {
   void WriteInfo(const std::string& key, const std::string& value);
 
   std::optional<Location> ReadLocation(LocationId id);
-  std::optional<std::vector<float>> ReadWord(WordId id);
+  std::optional<std::vector<unsigned char>> ReadWord(WordId id);
   std::vector<LocationId> ReadLinks(LocationId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
   std::string ReadInfo(const std::string& key);

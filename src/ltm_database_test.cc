@@ -51,7 +51,7 @@ TEST(LtmDatabaseTest, RoundTrip) {
     LtmDatabase database(path, LtmDatabase::Mode::kCreate);
     database.Begin();
     database.WriteLocation(SampleLocation());
-    database.WriteWord(40, {1.5f, -2.0f});
+    database.WriteWord(40, testing::FloatBytes({1.5f, -2.0f}));
     database.WriteLoopClosure({41, 3, 42, 4, 0.25});
     database.WriteInfo("param.memory.stm_size", "25");
     database.Commit();
@@ -59,7 +59,7 @@ TEST(LtmDatabaseTest, RoundTrip) {
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);
   ExpectSameLocation(*database.ReadLocation(12), SampleLocation());
   EXPECT_FALSE(database.ReadLocation(99).has_value());
-  EXPECT_EQ(*database.ReadWord(40), (std::vector<float>{1.5f, -2.0f}));
+  EXPECT_EQ(*database.ReadWord(40), testing::FloatBytes({1.5f, -2.0f}));
   EXPECT_EQ(database.ReadLinks(12), (std::vector<LocationId>{2, 11, 13}));
   const auto loops = database.ReadLoopClosures();
   ASSERT_EQ(loops.size(), 1u);
@@ -72,7 +72,7 @@ TEST(LtmDatabaseTest, ReplaceWordChangesEveryReferenceAndDropsTheOldWord) {
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
   database.WriteLocation(SampleLocation());
-  database.WriteWord(5, {1, 2});
+  database.WriteWord(5, testing::FloatBytes({1, 2}));
   database.ReplaceWord(5, 77);
   EXPECT_EQ(database.ReadLocation(12)->signature.words, (std::vector<WordId>{77, 9, 77, 40}));
   EXPECT_FALSE(database.ReadWord(5).has_value());

@@ -13,8 +13,8 @@ std::vector<LocationId> Location::Links() const {
   return links;
 }
 
-Memory::Memory(int descriptor_dim, const DictionaryOptions& dictionary_options)
-    : dictionary_(descriptor_dim, dictionary_options) {}
+Memory::Memory(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& dictionary_options)
+    : dictionary_(kind, descriptor_dim, dictionary_options) {}
 
 Location& Memory::AddToStm(Signature signature, ImageIndex image, LocationId previous) {
   Location location;

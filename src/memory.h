@@ -17,7 +17,7 @@ namespace memloop {
 
 class Memory {
  public:
-  Memory(int descriptor_dim, const DictionaryOptions& dictionary_options);
+  Memory(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& dictionary_options);
 
   Dictionary& dictionary() { return dictionary_; }
   const Dictionary& dictionary() const { return dictionary_; }

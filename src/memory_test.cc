@@ -8,7 +8,7 @@ namespace memloop {
 namespace {
 
 TEST(MemoryTest, NewLocationsAreLinkedBothWaysAndLeaveStmOldestFirst) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1}, {2}, {3}, {4}});
   EXPECT_EQ(memory.at(ids[1]).neighbours, (std::set<LocationId>{ids[0], ids[2]}));
   EXPECT_EQ(memory.at(ids[0]).weight, 0);
@@ -18,7 +18,7 @@ TEST(MemoryTest, NewLocationsAreLinkedBothWaysAndLeaveStmOldestFirst) {
 }
 
 TEST(MemoryTest, AbsorbRewiresLinksAndReturnsOrphanWords) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1}, {2, 9}, {3}, {4}});
   memory.MoveStmOverflowToWm(0);
   const auto orphans = memory.Absorb(ids[3], ids[1]);  // L2 disappears into L4
@@ -30,7 +30,7 @@ TEST(MemoryTest, AbsorbRewiresLinksAndReturnsOrphanWords) {
 }
 
 TEST(MemoryTest, ReleaseAndRestoreKeepTheGraph) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1, 5}, {2, 5}, {3}});
   memory.MoveStmOverflowToWm(0);
   std::vector<WordId> orphans;
@@ -43,7 +43,7 @@ TEST(MemoryTest, ReleaseAndRestoreKeepTheGraph) {
 }
 
 TEST(MemoryTest, WorkingMemoryNeighbourhoodPassesThroughStmButHoldsOnlyWm) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1}, {2}, {3}, {4}, {5}});
   memory.MoveStmOverflowToWm(3);                              // WM: L1, L2; STM: L3, L4, L5
   memory.AddLinksOf(ids[4], ids[0], /*link_together=*/true);  // L5 <-> L1 loop closure

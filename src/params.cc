@@ -39,8 +39,8 @@ class Param {
 std::vector<Parameter> MakeRegistry() {
   constexpr double kHuge = 1e9;
   return {
-    Param("features.type", MEMLOOP_FIELD(features.type)).Choices({"surf", "sift"})
-        .Help("Feature backend: surf (memloop's SURF, 64-d), sift (OpenCV SIFT, 128-d)"),
+    Param("features.type", MEMLOOP_FIELD(features.type)).Choices({"surf", "sift", "orb"})
+        .Help("Feature backend: surf (memloop's SURF, 64-d), sift (OpenCV SIFT, 128-d), orb (OpenCV ORB, 256-bit binary)"),
     Param("features.max_features", MEMLOOP_FIELD(features.max_features)).Unit("keypoints")
         .Range(0, 100000).Help("Strongest keypoints kept per image (0 = all)"),
     Param("surf.hessian_threshold", MEMLOOP_FIELD(features.surf_hessian_threshold))
@@ -65,6 +65,12 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Rebuild the forest when points added+removed since the last build exceed this fraction of its size then"),
     Param("dictionary.seed", MEMLOOP_FIELD(dictionary.seed)).Range(0, 2147483647)
         .Help("Seed of the forest's random splits (repeatable runs)"),
+    Param("dictionary.lsh_tables", MEMLOOP_FIELD(dictionary.lsh_tables)).Range(1, 64)
+        .Help("Binary descriptors (orb): hash tables of the LSH index"),
+    Param("dictionary.lsh_key_bits", MEMLOOP_FIELD(dictionary.lsh_key_bits)).Unit("bits").Range(1, 32)
+        .Help("Binary descriptors (orb): bits per LSH hash key"),
+    Param("dictionary.lsh_probe_level", MEMLOOP_FIELD(dictionary.lsh_probe_level)).Range(0, 4)
+        .Help("Binary descriptors (orb): neighbouring LSH buckets probed (multi-probe level)"),
     Param("memory.stm_size", MEMLOOP_FIELD(memory.stm_size)).Unit("locations").Range(0, 100000)
         .Symbol("STM size").Help("Newest locations kept out of loop closure detection"),
     Param("memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold)).Range(0, 1)

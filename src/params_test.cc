@@ -55,7 +55,8 @@ TEST(ParamsTest, BadAssignmentsAreRefusedWithTheReason) {
   EXPECT_NE(ErrorOf("memory.stm_size=2.5").find("not a whole number"), std::string::npos);
   EXPECT_NE(ErrorOf("memory.stm_size=lots").find("not a number"), std::string::npos);
   EXPECT_NE(ErrorOf("memory.stm_size=").find("not a number"), std::string::npos);
-  EXPECT_NE(ErrorOf("features.type=surfish").find("must be one of surf|sift"), std::string::npos);
+  EXPECT_NE(ErrorOf("features.type=surfish").find("must be one of surf|sift|orb"),
+            std::string::npos);
   EXPECT_EQ(ErrorOf("memory.stm=3"), "Unknown parameter 'memory.stm' (see 'memloop params')");
   EXPECT_NE(ErrorOf("stm_size").find("expected NAME=VALUE"), std::string::npos);
 }

@@ -8,7 +8,7 @@ namespace memloop {
 namespace {
 
 TEST(RehearsalTest, MergesTheMostRecentSimilarLocationAsThePaperSays) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   // L1 {1,2,3}; L2 {4,5,6}; L_t {1,2,4,5,7}: s(L_t, L2) = 2/5 = 0.4 > 0.2, checked first.
   const auto ids = testing::AddChain(memory, {{1, 2, 3}, {4, 5, 6}, {1, 2, 4, 5, 7}});
   memory.at(ids[1]).weight = 3;
@@ -30,7 +30,7 @@ TEST(RehearsalTest, MergesTheMostRecentSimilarLocationAsThePaperSays) {
 }
 
 TEST(RehearsalTest, NothingMergedAtOrBelowTheThreshold) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   // s(L_t, L1) = 1/5 = 0.2, not above T_rehearsal = 0.2.
   const auto ids = testing::AddChain(memory, {{1, 2, 3, 4, 5}, {1, 6, 7, 8, 9}});
   const RehearsalOutcome outcome = Rehearse(ids[1], 0.2, memory);
@@ -40,7 +40,7 @@ TEST(RehearsalTest, NothingMergedAtOrBelowTheThreshold) {
 }
 
 TEST(RehearsalTest, WorkingMemoryIsNotRehearsed) {
-  Memory memory(2, testing::SmallDictionaryOptions());
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1, 2, 3}, {1, 2, 3}});
   memory.MoveStmOverflowToWm(1);  // L1 to WM: identical, but not in STM
   EXPECT_EQ(Rehearse(ids[1], 0.2, memory).merged_id, kNoLocation);

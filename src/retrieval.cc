@@ -13,14 +13,16 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
     if (!dictionary.Contains(word)) missing.push_back(word);
   }
   if (missing.empty()) return outcome;
-  cv::Mat descriptors(static_cast<int>(missing.size()), dictionary.descriptor_dim(), CV_32F);
+  cv::Mat descriptors(static_cast<int>(missing.size()), dictionary.descriptor_dim(),
+                      dictionary.descriptor_cv_type());
+  const size_t row_bytes = descriptors.cols * descriptors.elemSize();
   for (size_t row = 0; row < missing.size(); ++row) {
     const auto descriptor = ltm.LoadWord(missing[row]);
-    if (!descriptor || static_cast<int>(descriptor->size()) != dictionary.descriptor_dim()) {
+    if (!descriptor || descriptor->size() != row_bytes) {
       throw DatabaseError(ltm.path(), "word " + std::to_string(missing[row]) + " of location " +
                                           std::to_string(location.id) + " is missing or damaged");
     }
-    std::copy(descriptor->begin(), descriptor->end(), descriptors.ptr<float>(row));
+    std::copy(descriptor->begin(), descriptor->end(), descriptors.ptr<unsigned char>(row));
   }
   const std::vector<WordId> matches = dictionary.Match(descriptors);
   std::vector<WordId> unmatched_ids;

@@ -11,7 +11,7 @@ namespace {
 
 class RetrievalTest : public ::testing::Test {
  protected:
-  RetrievalTest() : memory_(2, testing::SmallDictionaryOptions()) {
+  RetrievalTest() : memory_(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions()) {
     ltm_ = std::make_unique<LongTermMemory>(dir_.File("map.db"));
     // A chain L1 .. L5; L3 and L4 share word 7; L3 also has word 18.
     ids_ = testing::AddChain(memory_, {{1}, {2}, {3, 7, 18}, {4, 7}, {5}});

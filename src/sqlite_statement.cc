@@ -91,9 +91,9 @@ std::string SqliteStatement::Text(int column) const {
   return text ? reinterpret_cast<const char*>(text) : "";
 }
 
-std::vector<float> SqliteStatement::FloatBlob(int column) const {
+std::vector<unsigned char> SqliteStatement::Blob(int column) const {
   const int bytes = sqlite3_column_bytes(statement_, column);
-  std::vector<float> values(bytes / sizeof(float));
+  std::vector<unsigned char> values(bytes);
   if (bytes > 0) std::memcpy(values.data(), sqlite3_column_blob(statement_, column), bytes);
   return values;
 }

@@ -48,7 +48,7 @@ class SqliteStatement {
   long long Int(int column) const;
   double Double(int column) const;
   std::string Text(int column) const;
-  std::vector<float> FloatBlob(int column) const;
+  std::vector<unsigned char> Blob(int column) const;
 
  private:
   const SqliteConnection& connection_;

@@ -19,8 +19,7 @@ void ReleaseOrphanWords(const std::vector<WordId>& orphans, Dictionary& dictiona
                         LongTermMemory& ltm) {
   for (WordId word : orphans) {
     if (dictionary.IsReferencedByLtm(word)) {
-      const cv::Mat descriptor = dictionary.Descriptor(word);
-      ltm.StoreWord(word, std::vector<float>(descriptor.begin<float>(), descriptor.end<float>()));
+      ltm.StoreWord(word, dictionary.Descriptor(word));
     }
     dictionary.Remove(word);
   }

@@ -10,7 +10,9 @@ namespace {
 
 class TransferTest : public ::testing::Test {
  protected:
-  TransferTest() : memory_(2, testing::SmallDictionaryOptions()), ltm_(dir_.File("map.db")) {
+  TransferTest()
+      : memory_(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions()),
+        ltm_(dir_.File("map.db")) {
     // L1 {1, 2}, L2 {3, 4}, L3 {5, 6}, L4 {7, 1}: word 1 shared by L1 and L4.
     ids_ = testing::AddChain(memory_, {{1, 2}, {3, 4}, {5, 6}, {7, 1}});
     memory_.MoveStmOverflowToWm(0);
@@ -44,7 +46,7 @@ TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {
   EXPECT_TRUE(ltm_.Contains(ids_[1]));
   EXPECT_EQ(ltm_.size(), 2u);
   ASSERT_TRUE(ltm_.LoadWord(3).has_value());  // words go to LTM with their locations
-  EXPECT_EQ(*ltm_.LoadWord(3), (std::vector<float>{300, 0}));
+  EXPECT_EQ(*ltm_.LoadWord(3), testing::FloatBytes({300, 0}));
 }
 
 TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {

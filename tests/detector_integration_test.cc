@@ -170,6 +170,24 @@ TEST(DetectorIntegrationTest, MapFileHoldsEveryLocationAndLoopClosure) {
   EXPECT_EQ(checked, count);
 }
 
+// The other backends on the generated route with a small WM (SURF, the default, is tested above):
+// loops are found, none false, and words (float or binary) go to LTM and come back.
+TEST(DetectorIntegrationTest, OtherFeatureBackendsThroughTransferAndRetrieval) {
+  const SyntheticRoute route;
+  for (const char* backend : {"sift", "orb"}) {
+    Options options = Deterministic();
+    options.features.type = backend;
+    options.memory.max_wm_locations = 35;
+    const std::vector<Result> results = RunRoute(route, options);
+    const PrecisionRecall score = Score(route, results);
+    int retrieved = 0;
+    for (const Result& result : results) retrieved += static_cast<int>(result.retrieved_ids.size());
+    EXPECT_GT(score.true_positives, 20) << backend;
+    EXPECT_EQ(score.false_positives, 0) << backend;
+    EXPECT_GT(retrieved, 0) << backend;
+  }
+}
+
 TEST(DetectorIntegrationTest, BadImageIsRefusedAndNothingChanges) {
   testing::TempDir dir;
   Detector detector(Deterministic(), dir.File("map.db"));

@@ -2,6 +2,7 @@
 // similarities can be worked out by hand.
 #pragma once
 
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -48,6 +49,13 @@ inline std::vector<LocationId> AddChain(Memory& memory,
     ids.push_back(previous);
   }
   return ids;
+}
+
+// The bytes of float values, as LTM stores a float descriptor row.
+inline std::vector<unsigned char> FloatBytes(const std::vector<float>& values) {
+  std::vector<unsigned char> bytes(values.size() * sizeof(float));
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
 }
 
 }  // namespace memloop::testing

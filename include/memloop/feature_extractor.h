@@ -1,5 +1,6 @@
 // The feature plug-in: one pure-virtual work method and the metadata the dictionary needs.
-// Backends: features/sift_extractor.cc (OpenCV SIFT).
+// Backends: features/surf_extractor.cc (memloop's SURF), features/sift_extractor.cc and
+// features/orb_extractor.cc (OpenCV).
 #pragma once
 
 #include <memory>
@@ -10,11 +11,13 @@
 
 namespace memloop {
 
-enum class DescriptorKind { kFloat };
+// kFloat: CV_32F rows compared by L2 distance; kBinary: CV_8U rows (bit strings) compared by
+// Hamming distance.
+enum class DescriptorKind { kFloat, kBinary };
 
 struct Features {
   std::vector<cv::KeyPoint> keypoints;
-  cv::Mat descriptors;  // one row per keypoint, CV_32F for kFloat
+  cv::Mat descriptors;  // one row per keypoint: CV_32F for kFloat, CV_8U for kBinary
 };
 
 class FeatureExtractor {
@@ -26,7 +29,7 @@ class FeatureExtractor {
   // `gray` is an 8-bit single-channel image. The result is deterministic: the same image gives
   // the same keypoints and descriptors in the same order. Thread-compatible, not thread-safe.
   virtual Features Extract(const cv::Mat& gray) const = 0;
-  virtual int DescriptorDim() const = 0;
+  virtual int DescriptorDim() const = 0;  // values (kFloat) or bytes (kBinary) per row
   virtual DescriptorKind Kind() const = 0;
   virtual const char* Name() const = 0;
 };

@@ -9,7 +9,7 @@
 namespace memloop {
 
 struct FeatureOptions {
-  // Feature backend: "surf" (memloop's SURF, the paper's), "sift" (OpenCV).
+  // Feature backend: "surf" (memloop's SURF, the paper's), "sift" or "orb" (OpenCV).
   std::string type = "surf";
   // Keep at most this many strongest keypoints per image (0 = all).
   int max_features = 400;
@@ -38,6 +38,11 @@ struct DictionaryOptions {
   double rebuild_fraction = 1.0;
   // Seed of the forest's random split choice, so runs repeat exactly.
   int seed = 42;
+  // Binary descriptors (ORB) are indexed by locality-sensitive hashing (FLANN LshIndex):
+  // hash tables, bits per hash key, and neighbouring buckets probed (FLANN's defaults).
+  int lsh_tables = 12;
+  int lsh_key_bits = 20;
+  int lsh_probe_level = 2;
 };
 
 struct MemoryOptions {

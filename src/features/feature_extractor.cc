@@ -1,5 +1,6 @@
 #include "memloop/feature_extractor.h"
 
+#include "features/orb_extractor.h"
 #include "features/sift_extractor.h"
 #include "features/surf_extractor.h"
 #include "memloop/errors.h"
@@ -9,8 +10,10 @@ namespace memloop {
 std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions& options) {
   if (options.type == "surf") return std::make_unique<SurfExtractor>(options);
   if (options.type == "sift") return std::make_unique<SiftExtractor>(options);
-  throw ParameterError("features.type", "Invalid parameter features.type = '" + options.type +
-                                            "': unknown feature backend (available: surf, sift)");
+  if (options.type == "orb") return std::make_unique<OrbExtractor>(options);
+  throw ParameterError("features.type",
+                       "Invalid parameter features.type = '" + options.type +
+                           "': unknown feature backend (available: surf, sift, orb)");
 }
 
 }  // namespace memloop

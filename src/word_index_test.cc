@@ -1,6 +1,8 @@
-#include "kd_forest.h"
+#include "word_index.h"
 
 #include <gtest/gtest.h>
+
+#include <bitset>
 
 namespace memloop {
 namespace {
@@ -29,10 +31,11 @@ std::pair<WordId, float> Nearest(const cv::Mat& query, const cv::Mat& points,
   return best;
 }
 
-TEST(KdForestTest, AgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
+TEST(WordIndexTest, KdForestAgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
   DictionaryOptions options;
   options.kd_checks = 4000;  // near exact
-  KdForest forest(16, options);
+  const auto forest_owner = WordIndex::Create(DescriptorKind::kFloat, 16, options);
+  WordIndex& forest = *forest_owner;
   const cv::Mat points = RandomPoints(3000, 16, 1);
   const std::vector<WordId> ids = Ids(1, 3000);
   // Added in batches, as images are: the forest is extended and rebuilt along the way.
@@ -63,8 +66,9 @@ TEST(KdForestTest, AgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
   EXPECT_GE(agree, 196);  // approximate search: allow 2% misses
 }
 
-TEST(KdForestTest, FindsItsOwnPointsAfterRebuildAndKeepsDescriptors) {
-  KdForest forest(8, DictionaryOptions());
+TEST(WordIndexTest, KdForestFindsItsOwnPointsAfterRebuildAndKeepsDescriptors) {
+  const auto forest_owner = WordIndex::Create(DescriptorKind::kFloat, 8, DictionaryOptions());
+  WordIndex& forest = *forest_owner;
   const cv::Mat points = RandomPoints(500, 8, 3);
   forest.Add(Ids(100, 250), points.rowRange(0, 250));
   forest.Add(Ids(350, 250), points.rowRange(250, 500));  // doubles the size: rebuilt
@@ -73,15 +77,17 @@ TEST(KdForestTest, FindsItsOwnPointsAfterRebuildAndKeepsDescriptors) {
     EXPECT_EQ(found[row][0].word, 100 + row);
     EXPECT_FLOAT_EQ(found[row][0].distance, 0.0f);
   }
-  EXPECT_EQ(forest.Descriptor(360)[3], points.at<float>(260, 3));
-  EXPECT_EQ(forest.Descriptor(99), nullptr);
+  EXPECT_EQ(forest.Descriptor(360).at<float>(0, 3), points.at<float>(260, 3));
+  EXPECT_TRUE(forest.Descriptor(99).empty());
 }
 
-TEST(KdForestTest, SameInputSameForest) {
+TEST(WordIndexTest, KdForestSameInputSameForest) {
   const cv::Mat points = RandomPoints(2000, 32, 4);
   const cv::Mat queries = RandomPoints(300, 32, 5);
-  KdForest a(32, DictionaryOptions());
-  KdForest b(32, DictionaryOptions());
+  auto a_owner = WordIndex::Create(DescriptorKind::kFloat, 32, DictionaryOptions());
+  auto b_owner = WordIndex::Create(DescriptorKind::kFloat, 32, DictionaryOptions());
+  WordIndex& a = *a_owner;
+  WordIndex& b = *b_owner;
   a.Add(Ids(1, 2000), points);
   b.Add(Ids(1, 2000), points);
   const auto found_a = a.Search(queries);
@@ -92,8 +98,9 @@ TEST(KdForestTest, SameInputSameForest) {
   }
 }
 
-TEST(KdForestTest, EmptyAndSingleWord) {
-  KdForest forest(2, DictionaryOptions());
+TEST(WordIndexTest, KdForestEmptyAndSingleWord) {
+  const auto forest_owner = WordIndex::Create(DescriptorKind::kFloat, 2, DictionaryOptions());
+  WordIndex& forest = *forest_owner;
   const cv::Mat query = (cv::Mat_<float>(1, 2) << 1, 1);
   EXPECT_EQ(forest.Search(query)[0][0].word, kNoWord);
   forest.Add({7}, (cv::Mat_<float>(1, 2) << 4, 5));
@@ -103,6 +110,51 @@ TEST(KdForestTest, EmptyAndSingleWord) {
   EXPECT_EQ(found[0][1].word, kNoWord);
   forest.Remove(7);
   EXPECT_EQ(forest.Search(query)[0][0].word, kNoWord);
+}
+
+int Hamming(const cv::Mat& a, const cv::Mat& b) {
+  return static_cast<int>(cv::norm(a, b, cv::NORM_HAMMING));
+}
+
+// Binary words (ORB): LSH with Hamming distances, against brute force.
+TEST(WordIndexTest, LshFindsNearWordsByHammingDistance) {
+  DictionaryOptions options;
+  const auto index_owner = WordIndex::Create(DescriptorKind::kBinary, 32, options);
+  WordIndex& index = *index_owner;
+  cv::Mat words(2000, 32, CV_8U);
+  cv::RNG(6).fill(words, cv::RNG::UNIFORM, 0, 256);
+  index.Add(Ids(1, 1000), words.rowRange(0, 1000));
+  index.Add(Ids(1001, 1000), words.rowRange(1000, 2000));
+  for (WordId id = 1; id <= 2000; id += 4) index.Remove(id);
+  EXPECT_EQ(index.size(), 1500u);
+  // Queries: copies of live words with 6 of 256 bits flipped; their word is far the nearest.
+  cv::Mat queries = words.rowRange(0, 200).clone();
+  cv::RNG flips(7);
+  for (int row = 0; row < queries.rows; ++row) {
+    for (int n = 0; n < 6; ++n) {
+      const int bit = flips.uniform(0, 256);
+      queries.at<unsigned char>(row, bit / 8) ^= static_cast<unsigned char>(1 << (bit % 8));
+    }
+  }
+  const auto found = index.Search(queries);
+  int agree = 0;
+  int live = 0;
+  for (int row = 0; row < queries.rows; ++row) {
+    const WordId own = row + 1;
+    EXPECT_NE((found[row][0].word - 1) % 4, 0) << "a removed word was returned";
+    if ((own - 1) % 4 == 0) continue;  // removed
+    ++live;
+    if (found[row][0].word == own) {
+      ++agree;
+      EXPECT_EQ(found[row][0].distance, Hamming(queries.row(row), words.row(own - 1)));
+      // LSH may find a single candidate: the second is then kNoWord.
+      if (found[row][1].word != kNoWord) {
+        EXPECT_GE(found[row][1].distance, found[row][0].distance);
+      }
+    }
+  }
+  EXPECT_GE(agree, 0.95 * live);
+  EXPECT_EQ(Hamming(index.Descriptor(1002), words.row(1001)), 0);
 }
 
 }  // namespace

@@ -1,0 +1,32 @@
+#include "features/keypoint_order.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace memloop {
+
+Features SortStrongestFirst(Features features) {
+  std::vector<int> order(features.keypoints.size());
+  std::iota(order.begin(), order.end(), 0);
+  const auto& keypoints = features.keypoints;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const cv::KeyPoint& ka = keypoints[a];
+    const cv::KeyPoint& kb = keypoints[b];
+    if (ka.response != kb.response) return ka.response > kb.response;
+    if (ka.pt.y != kb.pt.y) return ka.pt.y < kb.pt.y;
+    if (ka.pt.x != kb.pt.x) return ka.pt.x < kb.pt.x;
+    if (ka.size != kb.size) return ka.size < kb.size;
+    return ka.angle < kb.angle;
+  });
+  Features sorted;
+  sorted.keypoints.reserve(order.size());
+  sorted.descriptors.create(static_cast<int>(order.size()), features.descriptors.cols,
+                            features.descriptors.type());
+  for (size_t row = 0; row < order.size(); ++row) {
+    sorted.keypoints.push_back(keypoints[order[row]]);
+    features.descriptors.row(order[row]).copyTo(sorted.descriptors.row(static_cast<int>(row)));
+  }
+  return sorted;
+}
+
+}  // namespace memloop

@@ -1,0 +1,170 @@
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <deque>
+#include <unordered_map>
+
+#include "flann_deterministic.h"
+#include "word_index.h"
+
+namespace memloop {
+namespace {
+
+float TrueDistance(const flann::L2<float>&, float squared) {
+  return std::sqrt(std::max(0.0f, squared));
+}
+float TrueDistance(const flann::Hamming<unsigned char>&, unsigned int bits) {
+  return static_cast<float>(bits);
+}
+
+flann::IndexParams IndexParams(const flann::L2<float>&, const DictionaryOptions& options) {
+  return flann::KDTreeIndexParams(options.kd_trees);
+}
+flann::IndexParams IndexParams(const flann::Hamming<unsigned char>&,
+                               const DictionaryOptions& options) {
+  return flann::LshIndexParams(options.lsh_tables, options.lsh_key_bits, options.lsh_probe_level);
+}
+
+// FLANN index over the words, with the words' descriptors owned here: FLANN keeps pointers into
+// the points it is given, so they live in `buffers_` until the next rebuild compacts them.
+template <typename Distance>
+class FlannWordIndex : public WordIndex {
+ public:
+  using Element = typename Distance::ElementType;
+  using Index = flann::Index<Distance>;
+
+  FlannWordIndex(DescriptorKind kind, int dim, const DictionaryOptions& options)
+      : WordIndex(kind, dim), options_(options) {}
+
+  void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) override {
+    assert(descriptors.type() == cv_type() && descriptors.cols == dim());
+    assert(static_cast<int>(ids.size()) == descriptors.rows);
+    if (ids.empty()) return;
+    buffers_.emplace_back(ids.size() * dim());
+    std::vector<Element>& buffer = buffers_.back();
+    for (int row = 0; row < descriptors.rows; ++row) {
+      std::copy_n(descriptors.ptr<Element>(row), dim(), buffer.data() + row * dim());
+    }
+    flann::Matrix<Element> points(buffer.data(), ids.size(), dim());
+    const size_t first_point = next_point_;  // FLANN names points in order, never reusing one
+    next_point_ += ids.size();
+    if (index_) {
+      index_->addPoints(points, /*rebuild_threshold=*/1.0f);  // <= 1: never rebuild by itself
+    } else {
+      Build(points);
+    }
+    for (size_t i = 0; i < ids.size(); ++i) {
+      point_of_word_[ids[i]] = first_point + i;
+      word_of_point_[first_point + i] = ids[i];
+    }
+    changes_since_build_ += ids.size();
+    if (changes_since_build_ > options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
+      Rebuild();
+    }
+  }
+
+  void Remove(WordId id) override {
+    const auto found = point_of_word_.find(id);
+    if (found == point_of_word_.end()) return;
+    index_->removePoint(found->second);
+    word_of_point_.erase(found->second);
+    point_of_word_.erase(found);
+    ++changes_since_build_;
+  }
+
+  bool Contains(WordId id) const override { return point_of_word_.count(id) > 0; }
+  size_t size() const override { return point_of_word_.size(); }
+  int build_count() const override { return build_count_; }
+
+  cv::Mat Descriptor(WordId id) const override {
+    const Element* data = Point(id);
+    if (data == nullptr) return {};
+    return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(data)).clone();
+  }
+
+  std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const override {
+    assert(queries.type() == cv_type() && queries.cols == dim());
+    std::vector<std::array<Neighbour, 2>> result(queries.rows);
+    const size_t k = std::min<size_t>(2, size());
+    if (k == 0 || queries.rows == 0) return result;
+    cv::Mat contiguous = queries.isContinuous() ? queries : queries.clone();
+    flann::Matrix<Element> query_matrix(contiguous.ptr<Element>(), queries.rows, dim());
+    using DistanceType = typename Distance::ResultType;
+    std::vector<size_t> indices(queries.rows * k, static_cast<size_t>(-1));
+    std::vector<DistanceType> distances(queries.rows * k);
+    flann::Matrix<size_t> index_matrix(indices.data(), queries.rows, k);
+    flann::Matrix<DistanceType> distance_matrix(distances.data(), queries.rows, k);
+    flann::SearchParams params(options_.kd_checks);
+    params.cores = 1;  // one thread: repeatable, and a predictable time per image
+    index_->knnSearch(query_matrix, index_matrix, distance_matrix, k, params);
+    for (int row = 0; row < queries.rows; ++row) {
+      for (size_t n = 0; n < k; ++n) {
+        const auto word = word_of_point_.find(index_matrix[row][n]);
+        if (word == word_of_point_.end()) continue;  // fewer than k found
+        result[row][n] = {word->second, TrueDistance(Distance(), distance_matrix[row][n])};
+      }
+    }
+    return result;
+  }
+
+ private:
+  const Element* Point(WordId id) const {
+    const auto found = point_of_word_.find(id);
+    return found == point_of_word_.end() ? nullptr : index_->getPoint(found->second);
+  }
+
+  void Build(const flann::Matrix<Element>& points) {
+    flann::seed_random(options_.seed);
+    index_ = std::make_unique<Index>(points, IndexParams(Distance(), options_));
+    index_->buildIndex();
+    ++build_count_;
+  }
+
+  // A new index over the live points, in word order so the same history gives the same index.
+  void Rebuild() {
+    std::vector<WordId> ids;
+    ids.reserve(point_of_word_.size());
+    for (const auto& entry : point_of_word_) ids.push_back(entry.first);
+    std::sort(ids.begin(), ids.end());
+    std::vector<Element> buffer(ids.size() * dim());
+    for (size_t i = 0; i < ids.size(); ++i) {
+      std::copy_n(Point(ids[i]), dim(), buffer.data() + i * dim());
+    }
+    index_.reset();
+    buffers_.clear();
+    point_of_word_.clear();
+    word_of_point_.clear();
+    size_at_build_ = ids.size();
+    next_point_ = ids.size();
+    changes_since_build_ = 0;
+    if (ids.empty()) return;
+    buffers_.push_back(std::move(buffer));
+    Build(flann::Matrix<Element>(buffers_.back().data(), ids.size(), dim()));
+    for (size_t i = 0; i < ids.size(); ++i) {
+      point_of_word_[ids[i]] = i;
+      word_of_point_[i] = ids[i];
+    }
+  }
+
+  DictionaryOptions options_;
+  std::unique_ptr<Index> index_;
+  std::deque<std::vector<Element>> buffers_;
+  std::unordered_map<WordId, size_t> point_of_word_;
+  std::unordered_map<size_t, WordId> word_of_point_;
+  size_t next_point_ = 0;
+  size_t size_at_build_ = 0;
+  size_t changes_since_build_ = 0;
+  int build_count_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<WordIndex> WordIndex::Create(DescriptorKind kind, int dim,
+                                             const DictionaryOptions& options) {
+  if (kind == DescriptorKind::kBinary) {
+    return std::make_unique<FlannWordIndex<flann::Hamming<unsigned char>>>(kind, dim, options);
+  }
+  return std::make_unique<FlannWordIndex<flann::L2<float>>>(kind, dim, options);
+}
+
+}  // namespace memloop

@@ -1,0 +1,56 @@
+// The search structure behind the dictionary (paper III-A): the words' descriptors, updated
+// incrementally, answering "which two words are nearest to this descriptor". Float descriptors
+// (SURF, SIFT) use a randomized kd-tree forest with true L2 distances; binary ones (ORB) use
+// locality-sensitive hashing with Hamming distances. Both are FLANN's (flann_word_index.cc).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "memloop/feature_extractor.h"
+#include "memloop/options.h"
+#include "memloop/types.h"
+
+namespace memloop {
+
+struct Neighbour {
+  WordId word = kNoWord;
+  float distance = 0;  // true L2 distance (not squared), or Hamming distance in bits
+};
+
+class WordIndex {
+ public:
+  virtual ~WordIndex() = default;
+  // kDescriptorFloat: CV_32F rows of `dim` values; kBinary: CV_8U rows of `dim` bytes.
+  static std::unique_ptr<WordIndex> Create(DescriptorKind kind, int dim,
+                                           const DictionaryOptions& options);
+
+  // Copies the rows of `descriptors` as points named `ids`. Points are added to the existing
+  // index; it is rebuilt only when the points added and removed since the last build exceed
+  // rebuild_fraction of its size then.
+  virtual void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) = 0;
+  virtual void Remove(WordId id) = 0;
+  virtual bool Contains(WordId id) const = 0;
+  // The word's descriptor as one row (a copy); empty when unknown.
+  virtual cv::Mat Descriptor(WordId id) const = 0;
+  virtual size_t size() const = 0;
+  // The two nearest words of each row (kNoWord where fewer are found).
+  virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const = 0;
+  // Full builds so far.
+  virtual int build_count() const = 0;
+
+  DescriptorKind kind() const { return kind_; }
+  int dim() const { return dim_; }
+  int cv_type() const { return kind_ == DescriptorKind::kFloat ? CV_32F : CV_8U; }
+
+ protected:
+  WordIndex(DescriptorKind kind, int dim) : kind_(kind), dim_(dim) {}
+
+ private:
+  DescriptorKind kind_;
+  int dim_;
+};
+
+}  // namespace memloop
