@@ -28,9 +28,7 @@ cv::Mat RouteImage(int width, int height, int frame) {
   SyntheticRouteOptions options;
   options.image_width = width;
   options.image_height = height;
-  cv::Mat gray;
-  cv::cvtColor(SyntheticRoute(options).Render(frame), gray, cv::COLOR_BGR2GRAY);
-  return gray;
+  return SyntheticRoute(options).RenderGray(frame);
 }
 
 // Detect + describe, one thread, over a set of 512x384 images (cycled): the shared real images

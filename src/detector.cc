@@ -87,17 +87,12 @@ class Detector::Impl {
   void Close() {
     if (closed_) return;
     closed_ = true;
-    Dictionary& dictionary = memory_.dictionary();
     std::set<WordId> words;
-    for (LocationId id : memory_.stm()) ltm_.Store(memory_.at(id));
-    for (LocationId id : memory_.working_memory()) ltm_.Store(memory_.at(id));
-    for (LocationId id : memory_.stm()) {
-      for (WordId word : memory_.at(id).signature.words) words.insert(word);
+    for (const auto& [id, location] : memory_.locations()) {
+      ltm_.Store(location);
+      words.insert(location.signature.words.begin(), location.signature.words.end());
     }
-    for (LocationId id : memory_.working_memory()) {
-      for (WordId word : memory_.at(id).signature.words) words.insert(word);
-    }
-    for (WordId word : words) ltm_.StoreWord(word, dictionary.Descriptor(word));
+    for (WordId word : words) ltm_.StoreWord(word, memory_.dictionary().Descriptor(word));
     ltm_.Flush();
   }
 

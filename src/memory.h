@@ -34,6 +34,8 @@ class Memory {
   const std::deque<LocationId>& stm() const { return stm_; }  // oldest first
   const std::set<LocationId>& working_memory() const { return working_memory_; }
   size_t size() const { return locations_.size(); }
+  // Every location of STM and WM, by id.
+  const std::map<LocationId, Location>& locations() const { return locations_; }
 
   // Moves the oldest STM locations to WM until STM holds at most `stm_size`.
   void MoveStmOverflowToWm(int stm_size);

@@ -110,6 +110,12 @@ cv::Mat SyntheticRoute::Render(int index) const {
   return color;
 }
 
+cv::Mat SyntheticRoute::RenderGray(int index) const {
+  cv::Mat gray;
+  cv::cvtColor(Render(index), gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
 bool SyntheticRoute::IsLoop(int query, int match) const {
   const Frame& a = frames_.at(query);
   const Frame& b = frames_.at(match);

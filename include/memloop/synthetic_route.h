@@ -34,6 +34,8 @@ class SyntheticRoute {
   int size() const { return static_cast<int>(frames_.size()); }
   // Frame `index` (0-based), 8-bit BGR, image_width x image_height.
   cv::Mat Render(int index) const;
+  // The same frame, 8-bit gray.
+  cv::Mat RenderGray(int index) const;
   // True when frame `query` shows the same place as the earlier frame `match`, seen on another
   // visit (frames of one pass are neighbours, not loop closures).
   bool IsLoop(int query, int match) const;

@@ -18,9 +18,7 @@ cv::Mat Texture(int width = 512, int height = 384, int frame = 5) {
   SyntheticRouteOptions options;
   options.image_width = width;
   options.image_height = height;
-  cv::Mat gray;
-  cv::cvtColor(SyntheticRoute(options).Render(frame), gray, cv::COLOR_BGR2GRAY);
-  return gray;
+  return SyntheticRoute(options).RenderGray(frame);
 }
 
 TEST(IntegralImageTest, BoxSumsAgainstBruteForceAndClamped) {
