@@ -12,14 +12,21 @@ echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(uname 
 "$build/bench/memloop_benchmarks" --benchmark_repetitions=5 --benchmark_report_aggregates_only \
   --benchmark_filter="${BENCH_FILTER:-.}" 2>/dev/null | grep -E "median|Benchmark|^-"
 
+column() {  # csv name -> 1-based index of the column so named
+  head -1 "$1" | tr ',' '\n' | grep -nx "$2" | cut -d: -f1
+}
+
 summarize() {  # name csv
-  local times
-  times=$(tail -n +2 "$2" | cut -d, -f13 | sort -g)
-  local n
+  local time_column wm_column words_column match_column times n
+  time_column=$(column "$2" iteration_ms)
+  wm_column=$(column "$2" wm_size)
+  words_column=$(column "$2" dictionary_size)
+  match_column=$(column "$2" matched_image)
+  times=$(tail -n +2 "$2" | cut -d, -f"$time_column" | sort -g)
   n=$(echo "$times" | wc -l)
   awk -F, -v name="$1" -v n="$n" -v median="$(echo "$times" | sed -n "$(((n + 1) / 2))p")" \
-      -v max="$(echo "$times" | tail -1)" \
-    'NR > 1 { if ($22 > wm) wm = $22; if ($24 > words) words = $24; if ($4 != "") loops++ }
+      -v max="$(echo "$times" | tail -1)" -v w="$wm_column" -v d="$words_column" -v m="$match_column" \
+    'NR > 1 { if ($w > wm) wm = $w; if ($d > words) words = $d; if ($m != "") loops++ }
      END { printf "%-36s images %4d  loops %4d  median %6.1f ms  max %6.1f ms  max WM %4d  max words %6d\n",
        name, n, loops, median, max, wm, words }' "$2"
 }

@@ -145,6 +145,7 @@ class Detector::Impl {
         SelectHypothesis(filter_.posterior(), neighbourhoods, options_.filter);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_value = hypothesis.value;
+    if (hypothesis.id != kNoLocation) result.hypothesis_images = memory_.at(hypothesis.id).images;
     result.virtual_place_probability = filter_.virtual_place();
     AbsorbPastMatches(hypothesis, neighbourhoods);
     if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);

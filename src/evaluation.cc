@@ -1,5 +1,7 @@
 #include "memloop/evaluation.h"
 
+#include <algorithm>
+
 namespace memloop {
 
 PrecisionRecall Evaluate(const std::vector<Detection>& detections,
@@ -23,6 +25,76 @@ PrecisionRecall Evaluate(const std::vector<Detection>& detections,
     ++(correct ? result.true_positives : result.false_positives);
   }
   return result;
+}
+
+namespace {
+
+enum class Verdict { kTrue, kFalse, kIgnored };
+
+// True when the query and any image of the matched location form a pair; ignored when none does
+// but one pair is ignored by the ground truth.
+Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& images, const GroundTruth& truth) {
+  bool ignored = false;
+  for (ImageIndex match : images) {
+    if (match >= query) continue;
+    const GroundTruth::Label label = truth.At(query, match);
+    if (label == GroundTruth::kLoop) return Verdict::kTrue;
+    ignored = ignored || label == GroundTruth::kIgnored;
+  }
+  return ignored ? Verdict::kIgnored : Verdict::kFalse;
+}
+
+}  // namespace
+
+RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth) {
+  RunEvaluation evaluation;
+  for (ImageIndex query = 0; query < truth.size(); ++query) {
+    evaluation.accepted.loop_images += truth.HasEarlierMatch(query);
+  }
+  const int loop_images = evaluation.accepted.loop_images;
+  struct Hypothesis {
+    double value;
+    Verdict verdict;
+  };
+  std::vector<Hypothesis> hypotheses;
+  for (const RunRow& row : rows) {
+    evaluation.images += 1;
+    evaluation.max_wm_size = std::max(evaluation.max_wm_size, row.wm_size);
+    evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
+    evaluation.max_iteration_ms = std::max(evaluation.max_iteration_ms, row.iteration_ms);
+    if (!row.matched_images.empty()) {
+      const Verdict verdict = Judge(row.image, row.matched_images, truth);
+      if (verdict == Verdict::kIgnored) {
+        ++evaluation.ignored;
+      } else {
+        ++evaluation.accepted.detections;
+        ++(verdict == Verdict::kTrue ? evaluation.accepted.true_positives
+                                     : evaluation.accepted.false_positives);
+      }
+    }
+    if (row.hypothesis_id != kNoLocation) {
+      hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
+    }
+  }
+  std::stable_sort(hypotheses.begin(), hypotheses.end(),
+                   [](const Hypothesis& a, const Hypothesis& b) { return a.value > b.value; });
+  PrecisionRecallPoint point;
+  for (size_t i = 0; i < hypotheses.size(); ++i) {
+    point.true_positives += hypotheses[i].verdict == Verdict::kTrue;
+    point.false_positives += hypotheses[i].verdict == Verdict::kFalse;
+    // Equal values cannot be told apart by a threshold: they enter together.
+    if (i + 1 < hypotheses.size() && hypotheses[i + 1].value == hypotheses[i].value) continue;
+    point.threshold = hypotheses[i].value;
+    const int detections = point.true_positives + point.false_positives;
+    point.precision = detections == 0 ? 1.0 : double(point.true_positives) / detections;
+    point.recall = loop_images == 0 ? 0.0 : double(point.true_positives) / loop_images;
+    evaluation.curve.push_back(point);
+    if (point.false_positives == 0 && point.recall >= evaluation.recall_at_full_precision) {
+      evaluation.recall_at_full_precision = point.recall;
+      evaluation.threshold_at_full_precision = point.threshold;
+    }
+  }
+  return evaluation;
 }
 
 }  // namespace memloop

@@ -36,3 +36,75 @@ TEST(EvaluationTest, NoDetectionIsFullPrecisionAndNoRecall) {
 
 }  // namespace
 }  // namespace memloop
+
+namespace memloop {
+namespace {
+
+RunRow Row(ImageIndex image, std::vector<ImageIndex> matched, double value,
+           std::vector<ImageIndex> hypothesis) {
+  RunRow row;
+  row.image = image;
+  row.matched_images = std::move(matched);
+  row.hypothesis_id = hypothesis.empty() ? kNoLocation : 1;
+  row.hypothesis_value = value;
+  row.hypothesis_images = std::move(hypothesis);
+  row.iteration_ms = image * 10.0;
+  row.wm_size = image;
+  row.dictionary_size = 100 * image;
+  return row;
+}
+
+// 7 images. Loops: 3 ~ 0, 4 ~ 1, 5 ~ 2; (6, 0) ignored. Images with a loop: 3, 4, 5.
+GroundTruth SmallTruth() {
+  cv::Mat labels(7, 7, CV_8U, cv::Scalar(GroundTruth::kNone));
+  labels.at<unsigned char>(3, 0) = GroundTruth::kLoop;
+  labels.at<unsigned char>(4, 1) = GroundTruth::kLoop;
+  labels.at<unsigned char>(5, 2) = GroundTruth::kLoop;
+  labels.at<unsigned char>(6, 0) = GroundTruth::kIgnored;
+  return GroundTruth(labels);
+}
+
+TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
+  const std::vector<RunRow> rows = {
+      Row(0, {}, 0, {}),
+      Row(1, {}, 0.05, {0}),         // false (no loop for image 1), below everything
+      Row(2, {}, 0.30, {1}),         // false, tied with image 5's value
+      Row(3, {0}, 0.90, {0}),        // accepted, true
+      Row(4, {2, 1}, 0.50, {2, 1}),  // accepted, true through the merged image 1
+      Row(5, {}, 0.30, {2}),         // true, tied with image 2
+      Row(6, {0}, 0.70, {0}),        // accepted on an ignored pair
+  };
+  const RunEvaluation e = EvaluateRun(rows, SmallTruth());
+  EXPECT_EQ(e.accepted.loop_images, 3);
+  EXPECT_EQ(e.accepted.detections, 2);
+  EXPECT_EQ(e.accepted.true_positives, 2);
+  EXPECT_EQ(e.accepted.false_positives, 0);
+  EXPECT_EQ(e.ignored, 1);
+  EXPECT_DOUBLE_EQ(e.accepted.Recall(), 2.0 / 3);
+  // Sorted values: 0.9 (T), 0.7 (ignored), 0.5 (T), 0.3 (F and T together), 0.05 (F).
+  ASSERT_EQ(e.curve.size(), 5u);
+  const double expected[5][4] = {// threshold, TP, FP, recall
+                                 {0.9, 1, 0, 1.0 / 3},
+                                 {0.7, 1, 0, 1.0 / 3},
+                                 {0.5, 2, 0, 2.0 / 3},
+                                 {0.3, 3, 1, 1.0},
+                                 {0.05, 3, 2, 1.0}};
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_DOUBLE_EQ(e.curve[i].threshold, expected[i][0]) << i;
+    EXPECT_EQ(e.curve[i].true_positives, expected[i][1]) << i;
+    EXPECT_EQ(e.curve[i].false_positives, expected[i][2]) << i;
+    EXPECT_DOUBLE_EQ(e.curve[i].recall, expected[i][3]) << i;
+  }
+  EXPECT_DOUBLE_EQ(e.curve[3].precision, 0.75);
+  // The tie at 0.3 cannot be split: the best recall without a false positive is at 0.5.
+  EXPECT_DOUBLE_EQ(e.recall_at_full_precision, 2.0 / 3);
+  EXPECT_DOUBLE_EQ(e.threshold_at_full_precision, 0.5);
+  // Table 1.
+  EXPECT_EQ(e.images, 7);
+  EXPECT_EQ(e.max_wm_size, 6);
+  EXPECT_EQ(e.max_dictionary_size, 600);
+  EXPECT_DOUBLE_EQ(e.max_iteration_ms, 60);
+}
+
+}  // namespace
+}  // namespace memloop

@@ -195,6 +195,43 @@ TEST_F(CliTest, ForeignOrExistingDatabasesAreRefusedAndKept) {
   EXPECT_EQ(ReadFile(map), damaged);
 }
 
+// run + eval on the generated route reproduce the precision and recall the run itself reports.
+TEST_F(CliTest, EvalReproducesTheDemosOwnScore) {
+  const Outcome demo = Memloop("demo --set memory.time_limit_ms=0 --out " + dir_.File("demo.csv"));
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  ASSERT_EQ(Memloop("generate " + dir_.path().string()).exit_code, 0);
+  const std::string truth = dir_.File("ground_truth_pairs.csv");
+  const Outcome eval = Memloop("eval " + dir_.File("demo.csv") + " " + truth);
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  // demo: "precision 100.0% (116/116), recall 96.7% (116/120 images with a loop)"
+  const auto demo_line = demo.output.substr(demo.output.rfind("precision"));
+  const auto counts = demo_line.substr(demo_line.find('(') + 1);
+  const int true_positives = std::stoi(counts);
+  const int detections = std::stoi(counts.substr(counts.find('/') + 1));
+  EXPECT_TRUE(Contains(eval.output, "loop closures accepted: " + std::to_string(detections) +
+                                        " (true " + std::to_string(true_positives) + ", false " +
+                                        std::to_string(detections - true_positives)))
+      << eval.output;
+  EXPECT_TRUE(Contains(eval.output, demo_line.substr(0, demo_line.find(" (")))) << eval.output;
+  const std::string recall = demo_line.substr(demo_line.find("recall"));
+  EXPECT_TRUE(Contains(eval.output, recall.substr(0, recall.find(" (")))) << eval.output;
+  EXPECT_TRUE(Contains(eval.output, "120 images with a loop")) << eval.output;
+  const Outcome json = Memloop("eval " + dir_.File("demo.csv") + " " + truth + " --json");
+  EXPECT_TRUE(Contains(json.output, "\"recall_at_100_precision\"")) << json.output;
+  EXPECT_TRUE(Contains(json.output, "\"curve\"")) << json.output;
+
+  // Bad input to eval: a clear line and a nonzero exit.
+  std::ofstream(dir_.File("bad_truth.txt")) << "0 1\n1\n";
+  const Outcome bad = Memloop("eval " + dir_.File("demo.csv") + " " + dir_.File("bad_truth.txt"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(Contains(bad.output, "memloop: error: " + dir_.File("bad_truth.txt") +
+                                       ": line 2 has 1 values, line 1 has 2"))
+      << bad.output;
+  const Outcome not_run = Memloop("eval " + truth + " " + truth);
+  EXPECT_NE(not_run.exit_code, 0);
+  EXPECT_TRUE(Contains(not_run.output, "not a memloop run CSV")) << not_run.output;
+}
+
 TEST_F(CliTest, DemoPrintsPrecisionAndRecall) {
   const Outcome demo = Memloop("demo --set memory.time_limit_ms=0");
   ASSERT_EQ(demo.exit_code, 0) << demo.output;

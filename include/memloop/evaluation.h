@@ -7,6 +7,8 @@
 #include <functional>
 #include <vector>
 
+#include "memloop/ground_truth.h"
+#include "memloop/run_csv.h"
 #include "memloop/types.h"
 
 namespace memloop {
@@ -29,5 +31,33 @@ struct PrecisionRecall {
 PrecisionRecall Evaluate(const std::vector<Detection>& detections,
                          const std::function<bool(ImageIndex, ImageIndex)>& is_loop,
                          int image_count);
+
+// A point of the precision-recall curve: the hypotheses of value >= threshold accepted.
+struct PrecisionRecallPoint {
+  double threshold = 0;
+  int true_positives = 0;
+  int false_positives = 0;
+  double precision = 1;
+  double recall = 0;
+};
+
+// What `memloop eval` reports for a run against ground truth.
+struct RunEvaluation {
+  PrecisionRecall accepted;  // the loop closures the run accepted (at its T_loop)
+  int ignored = 0;           // accepted detections on pairs the ground truth ignores
+  // Sweeping the acceptance threshold over every recorded highest hypothesis, highest first;
+  // hypotheses of equal value enter together (one point per distinct value).
+  std::vector<PrecisionRecallPoint> curve;
+  double recall_at_full_precision = 0;  // the best recall of a point with no false positive
+  double threshold_at_full_precision = 0;
+  // The paper's Table 1 row.
+  int images = 0;
+  int max_wm_size = 0;
+  int max_dictionary_size = 0;
+  double max_iteration_ms = 0;
+};
+
+// Rows as read by ReadRunCsv; ground truth over the same sequence.
+RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth);
 
 }  // namespace memloop

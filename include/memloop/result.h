@@ -36,6 +36,9 @@ struct Result {
   // Highest neighbour-summed hypothesis (III-D), accepted or not. kNoLocation when WM is empty.
   LocationId hypothesis_id = kNoLocation;
   double hypothesis_value = 0;
+  // Images of the highest hypothesis' location, so that a precision-recall curve can judge every
+  // hypothesis against ground truth, accepted or not.
+  std::vector<ImageIndex> hypothesis_images;
   // The posterior of the virtual place, p(S_t = -1 | L^t).
   double virtual_place_probability = 1;
 

@@ -1,5 +1,5 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
-// Subcommands: run, demo, generate, params. Errors print "memloop: error: ..." and exit 1.
+// Subcommands: run, demo, generate, eval, params. Errors print "memloop: error: ..." and exit 1.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   memloop::cli::AddRunCommand(app);
   memloop::cli::AddDemoCommand(app);
   memloop::cli::AddParamsCommand(app);
+  memloop::cli::AddEvalCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

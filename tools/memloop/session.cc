@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <memory>
 
-#include "csv_writer.h"
 #include "memloop/detector.h"
+#include "memloop/run_csv.h"
 #include "progress.h"
 
 namespace memloop::cli {
@@ -44,8 +44,8 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
   Detector detector(options, temporary ? temporary->path() : database_path);
-  std::unique_ptr<CsvWriter> csv;
-  if (!csv_path.empty()) csv = std::make_unique<CsvWriter>(csv_path);
+  std::unique_ptr<RunCsvWriter> csv;
+  if (!csv_path.empty()) csv = std::make_unique<RunCsvWriter>(csv_path);
 
   SessionReport report;
   int loop_closures = 0;

@@ -1,0 +1,48 @@
+// Loop-closure ground truth: a square matrix over the images of a sequence (row and column i =
+// the i-th image in processing order), read from any of the forms data sets come in:
+// - a MATLAB .mat file holding a square 0/1 matrix (the community data sets), read with libmatio;
+// - a square 8-bit grayscale image (.bmp, .png, .pgm, ...): 255 = loop, 0 = none, any other value
+//   = ignored (RTAB-Map's form);
+// - a CSV of pairs "query,match", by image file name or by 0-based image index;
+// - a whitespace-separated text matrix of 0/1 (other values: ignored).
+// Pairs are symmetric: (a, b) and (b, a) are the same place.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "memloop/types.h"
+
+namespace memloop {
+
+enum class GroundTruthFormat { kAuto, kMat, kImage, kPairs, kMatrix };
+
+class GroundTruth {
+ public:
+  enum Label : unsigned char { kNone = 0, kLoop = 1, kIgnored = 2 };
+
+  // Reads `path`; kAuto picks the form from the extension (.mat; .csv; .txt/.dat/.gt; an image
+  // otherwise). `image_names` names the images by index, for pairs given by name. Throws
+  // InputError naming the file and the problem: unreadable, not square, malformed line N,
+  // unknown image name, index out of range, no matrix in a .mat file.
+  static GroundTruth Load(const std::string& path, GroundTruthFormat format,
+                          const std::vector<std::string>& image_names, int image_count);
+  // "auto", "mat", "image", "pairs", "matrix"; throws InputError otherwise.
+  static GroundTruthFormat ParseFormat(const std::string& name);
+  // `labels`: square CV_8U of Label values, made symmetric here.
+  explicit GroundTruth(const cv::Mat& labels);
+
+  int size() const { return labels_.rows; }
+  Label At(ImageIndex a, ImageIndex b) const;
+  bool IsLoop(ImageIndex a, ImageIndex b) const { return At(a, b) == kLoop; }
+  // True when `query` shows the same place as an earlier image.
+  bool HasEarlierMatch(ImageIndex query) const;
+  int PairCount() const;  // loop pairs (a > b)
+
+ private:
+  cv::Mat labels_;
+};
+
+}  // namespace memloop

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "memloop/result.h"
+
+namespace memloop {
+
+// The per-image results of a run, one row per processed image, for plotting and `memloop eval`.
+// Columns: see docs/cli.md. Times are in milliseconds.
+class RunCsvWriter {
+ public:
+  // Throws InputError when `path` cannot be written.
+  explicit RunCsvWriter(const std::string& path);
+  void Write(const std::string& image_name, const Result& result);
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+// One row of a run's CSV, as `memloop eval` needs it.
+struct RunRow {
+  ImageIndex image = kNoImage;
+  std::string name;
+  LocationId location_id = kNoLocation;
+  std::vector<ImageIndex> matched_images;  // empty: no loop closure accepted
+  LocationId hypothesis_id = kNoLocation;
+  double hypothesis_value = 0;
+  std::vector<ImageIndex> hypothesis_images;
+  double iteration_ms = 0;
+  int wm_size = 0;
+  int dictionary_size = 0;
+};
+
+// Reads a CSV written by RunCsvWriter. Throws InputError naming the file and, for a malformed
+// row, its line: unreadable, not a memloop run (a column missing), a field that is not a number.
+std::vector<RunRow> ReadRunCsv(const std::string& path);
+
+}  // namespace memloop

@@ -1,0 +1,116 @@
+#include "memloop/ground_truth.h"
+
+#include <gtest/gtest.h>
+#include <matio.h>
+
+#include <array>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "memloop/errors.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+class GroundTruthTest : public ::testing::Test {
+ protected:
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_.File(name)) << text;
+    return dir_.File(name);
+  }
+  // Loading must fail naming the file and containing `reason`.
+  void ExpectError(const std::string& path, const std::string& reason, int count = 4,
+                   GroundTruthFormat format = GroundTruthFormat::kAuto) {
+    try {
+      GroundTruth::Load(path, format, names_, count);
+      FAIL() << "accepted " << path;
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.path(), path);
+      EXPECT_NE(std::string(error.what()).find(reason), std::string::npos) << error.what();
+    }
+  }
+  testing::TempDir dir_;
+  std::vector<std::string> names_ = {"a.jpg", "b.jpg", "c.jpg", "d.jpg"};
+};
+
+// 4 images: 2 ~ 0 and 3 ~ 1 are loops; (3, 0) ignored in the image form.
+void ExpectExample(const GroundTruth& truth, bool with_ignored) {
+  EXPECT_EQ(truth.size(), 4);
+  EXPECT_TRUE(truth.IsLoop(2, 0));
+  EXPECT_TRUE(truth.IsLoop(0, 2));  // symmetric
+  EXPECT_TRUE(truth.IsLoop(3, 1));
+  EXPECT_FALSE(truth.IsLoop(1, 0));
+  EXPECT_EQ(truth.At(3, 0), with_ignored ? GroundTruth::kIgnored : GroundTruth::kNone);
+  EXPECT_EQ(truth.PairCount(), 2);
+  EXPECT_FALSE(truth.HasEarlierMatch(1));
+  EXPECT_TRUE(truth.HasEarlierMatch(2));
+}
+
+TEST_F(GroundTruthTest, Image255IsLoopOtherValuesIgnored) {
+  cv::Mat image(4, 4, CV_8U, cv::Scalar(0));
+  image.at<unsigned char>(2, 0) = 255;
+  image.at<unsigned char>(3, 1) = 255;
+  image.at<unsigned char>(3, 0) = 128;
+  cv::imwrite(dir_.File("gt.png"), image);
+  ExpectExample(GroundTruth::Load(dir_.File("gt.png"), GroundTruthFormat::kAuto, names_, 4), true);
+}
+
+TEST_F(GroundTruthTest, PairsByNameOrIndex) {
+  ExpectExample(GroundTruth::Load(Write("names.csv", "query,match\nc.jpg,a.jpg\nd.jpg,b.jpg\n"),
+                                  GroundTruthFormat::kAuto, names_, 4),
+                false);
+  ExpectExample(
+      GroundTruth::Load(Write("indices.csv", "2,0\n3, 1\n"), GroundTruthFormat::kAuto, names_, 4),
+      false);
+}
+
+TEST_F(GroundTruthTest, TextMatrix) {
+  ExpectExample(GroundTruth::Load(Write("gt.txt", "0 0 0 0\n0 0 0 0\n1 0 0 0\n0.5 1 0 0\n"),
+                                  GroundTruthFormat::kAuto, names_, 4),
+                true);
+}
+
+TEST_F(GroundTruthTest, MatlabFile) {
+  const std::string path = dir_.File("gt.mat");
+  double values[16] = {0};  // column-major
+  values[0 * 4 + 2] = 1;    // (2, 0)
+  values[1 * 4 + 3] = 1;    // (3, 1)
+  values[0 * 4 + 3] = 0.5;  // (3, 0): ignored
+  mat_t* file = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  ASSERT_NE(file, nullptr);
+  size_t dims[2] = {4, 4};
+  matvar_t* text = Mat_VarCreate("note", MAT_C_CHAR, MAT_T_UINT8, 2,
+                                 std::array<size_t, 2>{1, 2}.data(), (void*)"hi", 0);
+  Mat_VarWrite(file, text, MAT_COMPRESSION_NONE);
+  Mat_VarFree(text);
+  matvar_t* matrix = Mat_VarCreate("truth", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, values, 0);
+  Mat_VarWrite(file, matrix, MAT_COMPRESSION_NONE);
+  Mat_VarFree(matrix);
+  Mat_Close(file);
+  ExpectExample(GroundTruth::Load(path, GroundTruthFormat::kAuto, names_, 4), true);
+}
+
+TEST_F(GroundTruthTest, MalformedGroundTruthIsRefusedWithTheReason) {
+  cv::imwrite(dir_.File("wide.png"), cv::Mat(4, 5, CV_8U, cv::Scalar(0)));
+  ExpectError(dir_.File("wide.png"), "4x5, not square");
+  cv::imwrite(dir_.File("color.png"), cv::Mat(4, 4, CV_8UC3, cv::Scalar(0)));
+  ExpectError(dir_.File("color.png"), "8-bit grayscale");
+  ExpectError(Write("broken.png", "not a png"), "cannot be read as an image");
+  ExpectError(dir_.File("absent.csv"), "cannot be read");
+  ExpectError(Write("ragged.txt", "0 0 0 0\n0 0 0\n"), "line 2 has 3 values, line 1 has 4");
+  ExpectError(Write("words.txt", "0 0 x 0\n"), "line 1: 'x' is not a number");
+  ExpectError(Write("nonsquare.txt", "0 0 0 0\n0 0 0 0\n"), "2x4, not square");
+  ExpectError(Write("unknown.csv", "query,match\ne.jpg,a.jpg\n"),
+              "line 2: 'e.jpg' is neither an image of the run nor an index");
+  ExpectError(Write("range.csv", "9,0\n"), "image index 9 is outside the run's 4 images");
+  ExpectError(Write("three.csv", "1,0,2\n"), "line 1: expected query,match");
+  ExpectError(Write("notmat.mat", "MATLAB? no"), "cannot be read as a MATLAB .mat file");
+  cv::imwrite(dir_.File("small.png"), cv::Mat(3, 3, CV_8U, cv::Scalar(0)));
+  ExpectError(dir_.File("small.png"), "the ground truth is 3x3 but the run has 4 images");
+  EXPECT_THROW(GroundTruth::ParseFormat("xml"), InputError);
+  EXPECT_EQ(GroundTruth::ParseFormat("pairs"), GroundTruthFormat::kPairs);
+}
+
+}  // namespace
+}  // namespace memloop

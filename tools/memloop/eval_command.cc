@@ -1,0 +1,96 @@
+// memloop eval RUN.csv GROUND_TRUTH [--format auto|mat|image|pairs|matrix] [--json]
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "memloop/evaluation.h"
+#include "memloop/ground_truth.h"
+#include "memloop/run_csv.h"
+
+namespace memloop::cli {
+namespace {
+
+nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
+  nlohmann::json curve = nlohmann::json::array();
+  for (const PrecisionRecallPoint& p : e.curve) {
+    curve.push_back({{"threshold", p.threshold}, {"precision", p.precision}, {"recall", p.recall},
+                     {"true_positives", p.true_positives}, {"false_positives", p.false_positives}});
+  }
+  return {{"images", e.images},
+          {"ground_truth", {{"size", truth.size()}, {"pairs", truth.PairCount()},
+                            {"images_with_loop", e.accepted.loop_images}}},
+          {"loop_closures", {{"detections", e.accepted.detections},
+                             {"true_positives", e.accepted.true_positives},
+                             {"false_positives", e.accepted.false_positives},
+                             {"ignored", e.ignored}}},
+          {"precision", e.accepted.Precision()},
+          {"recall", e.accepted.Recall()},
+          {"recall_at_100_precision", e.recall_at_full_precision},
+          {"threshold_at_100_precision", e.threshold_at_full_precision},
+          {"table1", {{"images", e.images}, {"max_wm_size", e.max_wm_size},
+                      {"max_dictionary_size", e.max_dictionary_size},
+                      {"max_iteration_s", e.max_iteration_ms / 1000},
+                      {"precision_percent", 100 * e.accepted.Precision()},
+                      {"recall_percent", 100 * e.accepted.Recall()}}},
+          {"curve", curve}};
+}
+
+void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::string& run,
+               const std::string& ground_truth) {
+  std::printf("run %s: %d images; ground truth %s: %dx%d, %d pairs, %d images with a loop\n",
+              run.c_str(), e.images, ground_truth.c_str(), truth.size(), truth.size(),
+              truth.PairCount(), e.accepted.loop_images);
+  std::printf("loop closures accepted: %d (true %d, false %d, on ignored pairs %d)\n",
+              e.accepted.detections + e.ignored, e.accepted.true_positives,
+              e.accepted.false_positives, e.ignored);
+  std::printf("precision %.1f%%, recall %.1f%%\n", 100 * e.accepted.Precision(),
+              100 * e.accepted.Recall());
+  std::printf("recall at 100%% precision: %.1f%% (hypotheses >= %.4g accepted)\n",
+              100 * e.recall_at_full_precision, e.threshold_at_full_precision);
+  std::printf("precision-recall curve: %zu points (--json lists them)\n", e.curve.size());
+  std::printf("Table 1: images %d | max WM size %d locations | max dictionary size %d words | "
+              "max iteration time %.3f s | precision %.0f%% | recall %.0f%%\n",
+              e.images, e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000,
+              100 * e.accepted.Precision(), 100 * e.accepted.Recall());
+}
+
+}  // namespace
+
+void AddEvalCommand(CLI::App& app) {
+  struct Arguments {
+    std::string run;
+    std::string ground_truth;
+    std::string format = "auto";
+    bool json = false;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  CLI::App* eval = app.add_subcommand(
+      "eval", "Precision, recall, the precision-recall curve and Table 1 of a run's CSV");
+  eval->add_option("run", arguments->run, "CSV written by memloop run --out")->required();
+  eval->add_option("ground_truth", arguments->ground_truth,
+                   "Ground truth: .mat, image (255 = loop), CSV of pairs, or text matrix")
+      ->required();
+  eval->add_option("--format", arguments->format, "auto, mat, image, pairs or matrix")
+      ->capture_default_str();
+  eval->add_flag("--json", arguments->json, "Print JSON");
+  eval->callback([arguments] {
+    const std::vector<RunRow> rows = ReadRunCsv(arguments->run);
+    int image_count = 0;
+    for (const RunRow& row : rows) image_count = std::max(image_count, row.image + 1);
+    std::vector<std::string> names(image_count);
+    for (const RunRow& row : rows) names[row.image] = row.name;
+    const GroundTruth truth =
+        GroundTruth::Load(arguments->ground_truth, GroundTruth::ParseFormat(arguments->format),
+                          names, image_count);
+    const RunEvaluation evaluation = EvaluateRun(rows, truth);
+    if (arguments->json) {
+      std::cout << ToJson(evaluation, truth).dump(2) << "\n";
+    } else {
+      PrintText(evaluation, truth, arguments->run, arguments->ground_truth);
+    }
+  });
+}
+
+}  // namespace memloop::cli
