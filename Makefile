@@ -5,7 +5,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev liblz4-dev libsqlite3-dev \
             libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
-            libbenchmark-dev libmatio-dev
+            libbenchmark-dev libmatio-dev gnuplot-nox chromium
 
 .PHONY: all deps build demo test bench docs format clean
 

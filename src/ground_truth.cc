@@ -4,9 +4,8 @@
 #include <cctype>
 #include <fstream>
 #include <map>
-#include <sstream>
-
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "ground_truth_mat.h"
 #include "memloop/errors.h"
@@ -66,11 +65,12 @@ cv::Mat LoadTextMatrix(const std::string& path) {
       char* end = nullptr;
       const double value = std::strtod(field.c_str(), &end);
       if (end != field.c_str() + field.size()) {
-        throw InputError(path, "line " + std::to_string(number) + ": '" + field +
-                                   "' is not a number");
+        throw InputError(path,
+                         "line " + std::to_string(number) + ": '" + field + "' is not a number");
       }
-      row.push_back(value == 1 ? GroundTruth::kLoop
-                               : value == 0 ? GroundTruth::kNone : GroundTruth::kIgnored);
+      row.push_back(value == 1   ? GroundTruth::kLoop
+                    : value == 0 ? GroundTruth::kNone
+                                 : GroundTruth::kIgnored);
     }
     if (row.empty()) continue;
     if (!rows.empty() && row.size() != rows.front().size()) {
@@ -80,7 +80,8 @@ cv::Mat LoadTextMatrix(const std::string& path) {
     }
     rows.push_back(std::move(row));
   }
-  CheckSquare(path, static_cast<int>(rows.size()), rows.empty() ? 0 : static_cast<int>(rows[0].size()));
+  CheckSquare(path, static_cast<int>(rows.size()),
+              rows.empty() ? 0 : static_cast<int>(rows[0].size()));
   cv::Mat labels(static_cast<int>(rows.size()), static_cast<int>(rows.size()), CV_8U);
   for (int r = 0; r < labels.rows; ++r) std::copy(rows[r].begin(), rows[r].end(), labels.ptr(r));
   return labels;
@@ -149,10 +150,18 @@ GroundTruth GroundTruth::Load(const std::string& path, GroundTruthFormat format,
   }
   cv::Mat labels;
   switch (format) {
-    case GroundTruthFormat::kMat: labels = LoadMatFile(path); break;
-    case GroundTruthFormat::kImage: labels = LoadImage(path); break;
-    case GroundTruthFormat::kPairs: labels = LoadPairs(path, image_names, image_count); break;
-    default: labels = LoadTextMatrix(path); break;
+    case GroundTruthFormat::kMat:
+      labels = LoadMatFile(path);
+      break;
+    case GroundTruthFormat::kImage:
+      labels = LoadImage(path);
+      break;
+    case GroundTruthFormat::kPairs:
+      labels = LoadPairs(path, image_names, image_count);
+      break;
+    default:
+      labels = LoadTextMatrix(path);
+      break;
   }
   if (labels.rows != image_count) {
     throw InputError(path, "the ground truth is " + std::to_string(labels.rows) + "x" +

@@ -13,7 +13,8 @@ cv::Mat LoadMatFile(const std::string& path) {
   cv::Mat labels;
   std::string skipped;
   while (matvar_t* variable = Mat_VarReadNext(file)) {
-    const bool numeric = variable->class_type >= MAT_C_DOUBLE && variable->class_type <= MAT_C_UINT64;
+    const bool numeric =
+        variable->class_type >= MAT_C_DOUBLE && variable->class_type <= MAT_C_UINT64;
     if (labels.empty() && numeric && variable->rank == 2 && !variable->isComplex &&
         variable->data != nullptr) {
       const int rows = static_cast<int>(variable->dims[0]);
@@ -29,19 +30,37 @@ cv::Mat LoadMatFile(const std::string& path) {
       cv::Mat values(rows, cols, CV_64F);
       const auto read = [&](auto* data) {
         for (int c = 0; c < cols; ++c) {
-          for (int r = 0; r < rows; ++r) values.at<double>(r, c) = static_cast<double>(data[c * rows + r]);
+          for (int r = 0; r < rows; ++r)
+            values.at<double>(r, c) = static_cast<double>(data[c * rows + r]);
         }
       };
       switch (variable->data_type) {
-        case MAT_T_DOUBLE: read(static_cast<const double*>(variable->data)); break;
-        case MAT_T_SINGLE: read(static_cast<const float*>(variable->data)); break;
-        case MAT_T_UINT8: read(static_cast<const unsigned char*>(variable->data)); break;
-        case MAT_T_INT8: read(static_cast<const signed char*>(variable->data)); break;
-        case MAT_T_INT16: read(static_cast<const short*>(variable->data)); break;
-        case MAT_T_UINT16: read(static_cast<const unsigned short*>(variable->data)); break;
-        case MAT_T_INT32: read(static_cast<const int*>(variable->data)); break;
-        case MAT_T_UINT32: read(static_cast<const unsigned int*>(variable->data)); break;
-        default: values.release();
+        case MAT_T_DOUBLE:
+          read(static_cast<const double*>(variable->data));
+          break;
+        case MAT_T_SINGLE:
+          read(static_cast<const float*>(variable->data));
+          break;
+        case MAT_T_UINT8:
+          read(static_cast<const unsigned char*>(variable->data));
+          break;
+        case MAT_T_INT8:
+          read(static_cast<const signed char*>(variable->data));
+          break;
+        case MAT_T_INT16:
+          read(static_cast<const short*>(variable->data));
+          break;
+        case MAT_T_UINT16:
+          read(static_cast<const unsigned short*>(variable->data));
+          break;
+        case MAT_T_INT32:
+          read(static_cast<const int*>(variable->data));
+          break;
+        case MAT_T_UINT32:
+          read(static_cast<const unsigned int*>(variable->data));
+          break;
+        default:
+          values.release();
       }
       if (!values.empty()) {
         labels = cv::Mat(rows, cols, CV_8U, cv::Scalar(GroundTruth::kIgnored));

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <opencv2/imgcodecs.hpp>
@@ -230,6 +233,62 @@ TEST_F(CliTest, EvalReproducesTheDemosOwnScore) {
   const Outcome not_run = Memloop("eval " + truth + " " + truth);
   EXPECT_NE(not_run.exit_code, 0);
   EXPECT_TRUE(Contains(not_run.output, "not a memloop run CSV")) << not_run.output;
+}
+
+// The report opens in headless Chromium (installed by `make test`): every figure draws, the page
+// logs no error, and a screenshot is kept in build/test-artifacts/report.png.
+TEST_F(CliTest, ReportRendersInABrowser) {
+  if (std::system("command -v chromium > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "chromium is not installed (make test installs it)";
+  }
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
+  const std::string page = dir_.File("report.html");
+  const Outcome report = Memloop("report " + csv + " " + folder_->File("ground_truth_pairs.csv") +
+                                 " --time-limit-ms 700 --out " + page);
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = ReadFile(page);
+  // Self-contained: nothing is loaded from elsewhere (xmlns URIs are names, not loads).
+  for (const char* load : {"src=\"http", "href=\"http", "src='http", "href='http", "<link"}) {
+    EXPECT_EQ(html.find(load), std::string::npos) << load;
+  }
+  EXPECT_EQ(std::count(html.begin(), html.end(), '\0'), 0);
+
+  const std::string browser =
+      "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync "
+      "--hide-scrollbars --virtual-time-budget=5000 --user-data-dir=" +
+      dir_.File("profile");
+  const std::string dom_path = dir_.File("dom.html");
+  ASSERT_EQ(std::system((browser + " --dump-dom file://" + page + " > " + dom_path + " 2> " +
+                         dir_.File("chromium.log"))
+                            .c_str()),
+            0);
+  const std::string dom = ReadFile(dom_path);
+  EXPECT_TRUE(Contains(dom, "data-rendered=\"4\"")) << dom.substr(0, 600);
+  EXPECT_TRUE(Contains(dom, "data-errors=\"\"")) << dom.substr(0, 600);
+  const std::string log = ReadFile(dir_.File("chromium.log"));
+  EXPECT_FALSE(Contains(log, "Uncaught")) << log;
+
+  const std::string artifacts = std::string(MEMLOOP_BUILD_DIR) + "/test-artifacts";
+  std::filesystem::create_directories(artifacts);
+  std::system((browser + " --window-size=1000,3400 --screenshot=" + artifacts +
+               "/report.png file://" + page + " > /dev/null 2>&1")
+                  .c_str());
+  EXPECT_TRUE(std::filesystem::exists(artifacts + "/report.png"));
+}
+
+TEST_F(CliTest, ReportWithoutGnuplotSaysSo) {
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --out " + csv).exit_code, 0);
+  const std::string command = "PATH=/nonexistent " + std::string(MEMLOOP_CLI) + " report " + csv +
+                              " " + folder_->File("ground_truth_pairs.csv") + " --out " +
+                              dir_.File("r2.html") + " > " + dir_.File("out.txt") + " 2>&1";
+  const int status = std::system(command.c_str());
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(
+      Contains(ReadFile(dir_.File("out.txt")), "memloop: error: memloop report needs gnuplot"))
+      << ReadFile(dir_.File("out.txt"));
 }
 
 TEST_F(CliTest, DemoPrintsPrecisionAndRecall) {

@@ -8,10 +8,9 @@
 // Pairs are symmetric: (a, b) and (b, a) are the same place.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "memloop/types.h"
 

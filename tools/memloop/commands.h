@@ -14,6 +14,7 @@ void AddRunCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddParamsCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
+void AddReportCommand(CLI::App& app);
 
 // Default options with every "--set NAME=VALUE" applied (throws ParameterError).
 Options OptionsFromAssignments(const std::vector<std::string>& assignments);

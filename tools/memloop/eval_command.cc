@@ -1,12 +1,15 @@
 // memloop eval RUN.csv GROUND_TRUTH [--format auto|mat|image|pairs|matrix] [--json]
+// memloop report RUN.csv GROUND_TRUTH [--format ...] [--out report.html] [--time-limit-ms T]
 #include <cstdio>
+#include <fstream>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "memloop/errors.h"
 #include "memloop/evaluation.h"
 #include "memloop/ground_truth.h"
+#include "memloop/report.h"
 #include "memloop/run_csv.h"
 
 namespace memloop::cli {
@@ -15,25 +18,33 @@ namespace {
 nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
   nlohmann::json curve = nlohmann::json::array();
   for (const PrecisionRecallPoint& p : e.curve) {
-    curve.push_back({{"threshold", p.threshold}, {"precision", p.precision}, {"recall", p.recall},
-                     {"true_positives", p.true_positives}, {"false_positives", p.false_positives}});
+    curve.push_back({{"threshold", p.threshold},
+                     {"precision", p.precision},
+                     {"recall", p.recall},
+                     {"true_positives", p.true_positives},
+                     {"false_positives", p.false_positives}});
   }
   return {{"images", e.images},
-          {"ground_truth", {{"size", truth.size()}, {"pairs", truth.PairCount()},
-                            {"images_with_loop", e.accepted.loop_images}}},
-          {"loop_closures", {{"detections", e.accepted.detections},
-                             {"true_positives", e.accepted.true_positives},
-                             {"false_positives", e.accepted.false_positives},
-                             {"ignored", e.ignored}}},
+          {"ground_truth",
+           {{"size", truth.size()},
+            {"pairs", truth.PairCount()},
+            {"images_with_loop", e.accepted.loop_images}}},
+          {"loop_closures",
+           {{"detections", e.accepted.detections},
+            {"true_positives", e.accepted.true_positives},
+            {"false_positives", e.accepted.false_positives},
+            {"ignored", e.ignored}}},
           {"precision", e.accepted.Precision()},
           {"recall", e.accepted.Recall()},
           {"recall_at_100_precision", e.recall_at_full_precision},
           {"threshold_at_100_precision", e.threshold_at_full_precision},
-          {"table1", {{"images", e.images}, {"max_wm_size", e.max_wm_size},
-                      {"max_dictionary_size", e.max_dictionary_size},
-                      {"max_iteration_s", e.max_iteration_ms / 1000},
-                      {"precision_percent", 100 * e.accepted.Precision()},
-                      {"recall_percent", 100 * e.accepted.Recall()}}},
+          {"table1",
+           {{"images", e.images},
+            {"max_wm_size", e.max_wm_size},
+            {"max_dictionary_size", e.max_dictionary_size},
+            {"max_iteration_s", e.max_iteration_ms / 1000},
+            {"precision_percent", 100 * e.accepted.Precision()},
+            {"recall_percent", 100 * e.accepted.Recall()}}},
           {"curve", curve}};
 }
 
@@ -50,13 +61,68 @@ void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::stri
   std::printf("recall at 100%% precision: %.1f%% (hypotheses >= %.4g accepted)\n",
               100 * e.recall_at_full_precision, e.threshold_at_full_precision);
   std::printf("precision-recall curve: %zu points (--json lists them)\n", e.curve.size());
-  std::printf("Table 1: images %d | max WM size %d locations | max dictionary size %d words | "
-              "max iteration time %.3f s | precision %.0f%% | recall %.0f%%\n",
-              e.images, e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000,
-              100 * e.accepted.Precision(), 100 * e.accepted.Recall());
+  std::printf(
+      "Table 1: images %d | max WM size %d locations | max dictionary size %d words | "
+      "max iteration time %.3f s | precision %.0f%% | recall %.0f%%\n",
+      e.images, e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000,
+      100 * e.accepted.Precision(), 100 * e.accepted.Recall());
+}
+
+struct Evaluated {
+  std::vector<RunRow> rows;
+  GroundTruth truth;
+  RunEvaluation evaluation;
+};
+
+// The run's rows and the ground truth over the same images (its size must be the run's).
+Evaluated Evaluate(const std::string& run, const std::string& ground_truth,
+                   const std::string& format) {
+  std::vector<RunRow> rows = ReadRunCsv(run);
+  int image_count = 0;
+  for (const RunRow& row : rows) image_count = std::max(image_count, row.image + 1);
+  std::vector<std::string> names(image_count);
+  for (const RunRow& row : rows) names[row.image] = row.name;
+  GroundTruth truth =
+      GroundTruth::Load(ground_truth, GroundTruth::ParseFormat(format), names, image_count);
+  RunEvaluation evaluation = EvaluateRun(rows, truth);
+  return {std::move(rows), std::move(truth), std::move(evaluation)};
 }
 
 }  // namespace
+
+void AddReportCommand(CLI::App& app) {
+  struct Arguments {
+    std::string run;
+    std::string ground_truth;
+    std::string format = "auto";
+    std::string out = "report.html";
+    double time_limit_ms = 0;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  CLI::App* report = app.add_subcommand(
+      "report", "One self-contained HTML page: PR curve, time per image, memory, detections");
+  report->add_option("run", arguments->run, "CSV written by memloop run --out")->required();
+  report->add_option("ground_truth", arguments->ground_truth, "Ground truth (as for eval)")
+      ->required();
+  report->add_option("--format", arguments->format, "auto, mat, image, pairs or matrix")
+      ->capture_default_str();
+  report->add_option("--out", arguments->out, "HTML file to write")->capture_default_str();
+  report->add_option("--time-limit-ms", arguments->time_limit_ms,
+                     "T_time of the run, drawn on the time figure (0: none)");
+  report->callback([arguments] {
+    const Evaluated evaluated =
+        Evaluate(arguments->run, arguments->ground_truth, arguments->format);
+    ReportOptions options;
+    options.title = "memloop: " + arguments->run;
+    options.time_limit_ms = arguments->time_limit_ms;
+    const std::string page =
+        MakeReport(evaluated.rows, evaluated.truth, evaluated.evaluation, options);
+    std::ofstream out(arguments->out);
+    out << page;
+    if (!out) throw InputError(arguments->out, "cannot write the report");
+    std::cout << "wrote " << arguments->out << "\n";
+  });
+}
 
 void AddEvalCommand(CLI::App& app) {
   struct Arguments {
@@ -76,19 +142,11 @@ void AddEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_flag("--json", arguments->json, "Print JSON");
   eval->callback([arguments] {
-    const std::vector<RunRow> rows = ReadRunCsv(arguments->run);
-    int image_count = 0;
-    for (const RunRow& row : rows) image_count = std::max(image_count, row.image + 1);
-    std::vector<std::string> names(image_count);
-    for (const RunRow& row : rows) names[row.image] = row.name;
-    const GroundTruth truth =
-        GroundTruth::Load(arguments->ground_truth, GroundTruth::ParseFormat(arguments->format),
-                          names, image_count);
-    const RunEvaluation evaluation = EvaluateRun(rows, truth);
+    const Evaluated e = Evaluate(arguments->run, arguments->ground_truth, arguments->format);
     if (arguments->json) {
-      std::cout << ToJson(evaluation, truth).dump(2) << "\n";
+      std::cout << ToJson(e.evaluation, e.truth).dump(2) << "\n";
     } else {
-      PrintText(evaluation, truth, arguments->run, arguments->ground_truth);
+      PrintText(e.evaluation, e.truth, arguments->run, arguments->ground_truth);
     }
   });
 }

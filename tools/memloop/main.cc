@@ -1,5 +1,6 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
-// Subcommands: run, demo, generate, eval, params. Errors print "memloop: error: ..." and exit 1.
+// Subcommands: run, demo, generate, eval, report, params. Errors print "memloop: error: ..." and
+// exit 1.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   memloop::cli::AddDemoCommand(app);
   memloop::cli::AddParamsCommand(app);
   memloop::cli::AddEvalCommand(app);
+  memloop::cli::AddReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
