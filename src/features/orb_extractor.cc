@@ -1,6 +1,6 @@
 #include "features/orb_extractor.h"
 
-#include "features/keypoint_order.h"
+#include "features/opencv_features.h"
 
 namespace memloop {
 
@@ -8,10 +8,7 @@ OrbExtractor::OrbExtractor(const FeatureOptions& options)
     : orb_(cv::ORB::create(options.max_features > 0 ? options.max_features : 100000)) {}
 
 Features OrbExtractor::Extract(const cv::Mat& gray) const {
-  Features features;
-  orb_->detectAndCompute(gray, cv::noArray(), features.keypoints, features.descriptors);
-  if (features.descriptors.empty()) features.descriptors = cv::Mat(0, DescriptorDim(), CV_8U);
-  return SortStrongestFirst(std::move(features));
+  return DetectAndDescribe(*orb_, gray, DescriptorDim(), CV_8U);
 }
 
 }  // namespace memloop

@@ -1,6 +1,6 @@
 #include "features/sift_extractor.h"
 
-#include "features/keypoint_order.h"
+#include "features/opencv_features.h"
 
 namespace memloop {
 
@@ -8,10 +8,7 @@ SiftExtractor::SiftExtractor(const FeatureOptions& options)
     : sift_(cv::SIFT::create(options.max_features)) {}
 
 Features SiftExtractor::Extract(const cv::Mat& gray) const {
-  Features features;
-  sift_->detectAndCompute(gray, cv::noArray(), features.keypoints, features.descriptors);
-  if (features.descriptors.empty()) features.descriptors = cv::Mat(0, DescriptorDim(), CV_32F);
-  return SortStrongestFirst(std::move(features));
+  return DetectAndDescribe(*sift_, gray, DescriptorDim(), CV_32F);
 }
 
 }  // namespace memloop

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <opencv2/features2d.hpp>
+
 #include "memloop/feature_extractor.h"
 
 namespace memloop {
@@ -8,5 +10,9 @@ namespace memloop {
 // size and angle. OpenCV's detectors gather keypoints from parallel workers, so their order can
 // vary between runs; this makes signatures repeatable.
 Features SortStrongestFirst(Features features);
+
+// An OpenCV detector-descriptor's features in that order; an image without keypoints gives an
+// empty matrix of the right width and type (`dim` columns of `cv_type`).
+Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type);
 
 }  // namespace memloop

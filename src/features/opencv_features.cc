@@ -1,4 +1,4 @@
-#include "features/keypoint_order.h"
+#include "features/opencv_features.h"
 
 #include <algorithm>
 #include <numeric>
@@ -27,6 +27,13 @@ Features SortStrongestFirst(Features features) {
     features.descriptors.row(order[row]).copyTo(sorted.descriptors.row(static_cast<int>(row)));
   }
   return sorted;
+}
+
+Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type) {
+  Features features;
+  detector.detectAndCompute(gray, cv::noArray(), features.keypoints, features.descriptors);
+  if (features.descriptors.empty()) features.descriptors = cv::Mat(0, dim, cv_type);
+  return SortStrongestFirst(std::move(features));
 }
 
 }  // namespace memloop
