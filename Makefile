@@ -5,15 +5,23 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev liblz4-dev libsqlite3-dev \
             libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
-            libbenchmark-dev libmatio-dev gnuplot-nox chromium
+            libbenchmark-dev libmatio-dev gnuplot-nox
+# Only the tests need a browser (they open `memloop report` in headless Chromium).
+TEST_PACKAGES := chromium
 
-.PHONY: all deps build demo test bench docs format clean
+.PHONY: all deps test-deps install-packages build demo test bench docs format clean
 
 all: build
 
 # Installs only the Debian packages that are missing (idempotent; root or sudo).
 deps:
-	@missing=""; for package in $(PACKAGES); do \
+	@$(MAKE) --no-print-directory install-packages WANTED="$(PACKAGES)"
+
+test-deps:
+	@$(MAKE) --no-print-directory install-packages WANTED="$(TEST_PACKAGES)"
+
+install-packages:
+	@missing=""; for package in $(WANTED); do \
 	  dpkg-query -W -f='$${Status}' $$package 2>/dev/null | grep -q "install ok installed" \
 	    || missing="$$missing $$package"; \
 	done; \
@@ -32,7 +40,7 @@ build: deps
 demo: build
 	./$(BUILD_DIR)/memloop demo
 
-test: build
+test: build test-deps
 	cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 bench: build
