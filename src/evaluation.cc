@@ -4,29 +4,6 @@
 
 namespace memloop {
 
-PrecisionRecall Evaluate(const std::vector<Detection>& detections,
-                         const std::function<bool(ImageIndex, ImageIndex)>& is_loop,
-                         int image_count) {
-  PrecisionRecall result;
-  for (ImageIndex query = 0; query < image_count; ++query) {
-    for (ImageIndex match = 0; match < query; ++match) {
-      if (is_loop(query, match)) {
-        ++result.loop_images;
-        break;
-      }
-    }
-  }
-  for (const Detection& detection : detections) {
-    ++result.detections;
-    bool correct = false;
-    for (ImageIndex match : detection.matched_images) {
-      correct = correct || (match < detection.query && is_loop(detection.query, match));
-    }
-    ++(correct ? result.true_positives : result.false_positives);
-  }
-  return result;
-}
-
 namespace {
 
 enum class Verdict { kTrue, kFalse, kIgnored };
@@ -46,12 +23,31 @@ Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& images, const Gro
 
 }  // namespace
 
+PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundTruth& truth) {
+  PrecisionRecall result;
+  for (ImageIndex query = 0; query < truth.size(); ++query) {
+    result.loop_images += truth.HasEarlierMatch(query);
+  }
+  for (const Detection& detection : detections) {
+    switch (Judge(detection.query, detection.matched_images, truth)) {
+      case Verdict::kTrue:
+        ++result.true_positives;
+        break;
+      case Verdict::kFalse:
+        ++result.false_positives;
+        break;
+      case Verdict::kIgnored:
+        ++result.ignored;
+        break;
+    }
+  }
+  result.detections = result.true_positives + result.false_positives;
+  return result;
+}
+
 RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth) {
   RunEvaluation evaluation;
-  for (ImageIndex query = 0; query < truth.size(); ++query) {
-    evaluation.accepted.loop_images += truth.HasEarlierMatch(query);
-  }
-  const int loop_images = evaluation.accepted.loop_images;
+  std::vector<Detection> accepted;
   struct Hypothesis {
     double value;
     Verdict verdict;
@@ -62,20 +58,13 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     evaluation.max_wm_size = std::max(evaluation.max_wm_size, row.wm_size);
     evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
     evaluation.max_iteration_ms = std::max(evaluation.max_iteration_ms, row.iteration_ms);
-    if (!row.matched_images.empty()) {
-      const Verdict verdict = Judge(row.image, row.matched_images, truth);
-      if (verdict == Verdict::kIgnored) {
-        ++evaluation.ignored;
-      } else {
-        ++evaluation.accepted.detections;
-        ++(verdict == Verdict::kTrue ? evaluation.accepted.true_positives
-                                     : evaluation.accepted.false_positives);
-      }
-    }
+    if (!row.matched_images.empty()) accepted.push_back({row.image, row.matched_images});
     if (row.hypothesis_id != kNoLocation) {
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
   }
+  evaluation.accepted = Evaluate(accepted, truth);
+  const int loop_images = evaluation.accepted.loop_images;
   std::stable_sort(hypotheses.begin(), hypotheses.end(),
                    [](const Hypothesis& a, const Hypothesis& b) { return a.value > b.value; });
   PrecisionRecallPoint point;

@@ -7,17 +7,24 @@
 namespace memloop {
 namespace {
 
+// Ground truth over `size` images with the given (query, match) loop pairs.
+GroundTruth TruthOf(int size, const std::set<std::pair<int, int>>& pairs) {
+  cv::Mat labels(size, size, CV_8U, cv::Scalar(GroundTruth::kNone));
+  for (const auto& [query, match] : pairs)
+    labels.at<unsigned char>(query, match) = GroundTruth::kLoop;
+  return GroundTruth(labels);
+}
+
 TEST(EvaluationTest, HandMadeCase) {
   // Ground truth: 5 ~ 1, 6 ~ 1, 6 ~ 2, 8 ~ 3. Images with a loop: 5, 6, 8.
-  const std::set<std::pair<int, int>> truth = {{5, 1}, {6, 1}, {6, 2}, {8, 3}};
-  const auto is_loop = [&](ImageIndex q, ImageIndex m) { return truth.count({q, m}) > 0; };
+  const GroundTruth truth = TruthOf(10, {{5, 1}, {6, 1}, {6, 2}, {8, 3}});
   const std::vector<Detection> detections = {
       {5, {1}},     // true
       {6, {4, 2}},  // true: the matched location stands for images 4 and 2
       {7, {3}},     // false: image 7 has no loop
       {8, {2}},     // false: wrong place
   };
-  const PrecisionRecall score = Evaluate(detections, is_loop, 10);
+  const PrecisionRecall score = Evaluate(detections, truth);
   EXPECT_EQ(score.detections, 4);
   EXPECT_EQ(score.true_positives, 2);
   EXPECT_EQ(score.false_positives, 2);
@@ -27,8 +34,7 @@ TEST(EvaluationTest, HandMadeCase) {
 }
 
 TEST(EvaluationTest, NoDetectionIsFullPrecisionAndNoRecall) {
-  const auto is_loop = [](ImageIndex q, ImageIndex m) { return q == 3 && m == 0; };
-  const PrecisionRecall score = Evaluate({}, is_loop, 4);
+  const PrecisionRecall score = Evaluate({}, TruthOf(4, {{3, 0}}));
   EXPECT_DOUBLE_EQ(score.Precision(), 1.0);
   EXPECT_DOUBLE_EQ(score.Recall(), 0.0);
   EXPECT_EQ(score.loop_images, 1);
@@ -79,7 +85,7 @@ TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   EXPECT_EQ(e.accepted.detections, 2);
   EXPECT_EQ(e.accepted.true_positives, 2);
   EXPECT_EQ(e.accepted.false_positives, 0);
-  EXPECT_EQ(e.ignored, 1);
+  EXPECT_EQ(e.accepted.ignored, 1);
   EXPECT_DOUBLE_EQ(e.accepted.Recall(), 2.0 / 3);
   // Sorted values: 0.9 (T), 0.7 (ignored), 0.5 (T), 0.3 (F and T together), 0.05 (F).
   ASSERT_EQ(e.curve.size(), 5u);

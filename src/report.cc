@@ -179,11 +179,11 @@ std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth) {
       "<tr><th>max dictionary size</th><td>%d words</td></tr>\n"
       "<tr><th>max iteration time</th><td>%.3f s</td></tr>\n"
       "</table>\n",
-      e.images, truth.PairCount(), e.accepted.loop_images, e.accepted.detections + e.ignored,
-      e.accepted.true_positives, e.accepted.false_positives, e.ignored,
-      100 * e.accepted.Precision(), 100 * e.accepted.Recall(), 100 * e.recall_at_full_precision,
-      e.threshold_at_full_precision, e.max_wm_size, e.max_dictionary_size,
-      e.max_iteration_ms / 1000);
+      e.images, truth.PairCount(), e.accepted.loop_images,
+      e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
+      e.accepted.false_positives, e.accepted.ignored, 100 * e.accepted.Precision(),
+      100 * e.accepted.Recall(), 100 * e.recall_at_full_precision, e.threshold_at_full_precision,
+      e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000);
   return text;
 }
 

@@ -125,6 +125,14 @@ bool SyntheticRoute::IsLoop(int query, int match) const {
   return distance <= options_.same_place_fraction * options_.image_width;
 }
 
+GroundTruth SyntheticRoute::Truth() const {
+  cv::Mat labels(size(), size(), CV_8U, cv::Scalar(GroundTruth::kNone));
+  for (const auto& [query, match] : GroundTruthPairs()) {
+    labels.at<unsigned char>(query, match) = GroundTruth::kLoop;
+  }
+  return GroundTruth(labels);
+}
+
 std::vector<std::pair<int, int>> SyntheticRoute::GroundTruthPairs() const {
   std::vector<std::pair<int, int>> pairs;
   for (int query = 0; query < size(); ++query) {

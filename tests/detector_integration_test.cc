@@ -30,8 +30,7 @@ PrecisionRecall Score(const SyntheticRoute& route, const std::vector<Result>& re
       detections.push_back({result.image_index, result.loop_closure_images});
     }
   }
-  return Evaluate(
-      detections, [&](int q, int m) { return route.IsLoop(q, m); }, route.size());
+  return Evaluate(detections, route.Truth());
 }
 
 // Time-based transfer depends on the machine: deterministic tests turn it off.

@@ -2,12 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <set>
 
 #include "memloop/detector.h"
 #include "memloop/evaluation.h"
+#include "memloop/ground_truth.h"
 #include "memloop/image_sequence.h"
 #include "temp_dir.h"
 
@@ -16,31 +15,17 @@ namespace {
 
 const std::string kSamples = std::string(MEMLOOP_DATASETS) + "/rtabmap_samples";
 
-// "query,match" file names -> 0-based indices (N.jpg is image N-1).
-std::set<std::pair<int, int>> ReadPairs(const std::string& path) {
-  std::set<std::pair<int, int>> pairs;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    const auto comma = line.find(',');
-    pairs.insert({std::stoi(line.substr(0, comma)) - 1, std::stoi(line.substr(comma + 1)) - 1});
-  }
-  return pairs;
-}
-
 TEST(RealDataTest, RtabmapSamplesHaveNoFalsePositive) {
   if (!std::filesystem::exists(kSamples + "/images")) {
     GTEST_SKIP() << kSamples << " is absent (it ships beside the project, not in it)";
   }
-  const auto truth = ReadPairs(kSamples + "/ground_truth_pairs.csv");
-  ASSERT_EQ(truth.size(), 228u);
   testing::TempDir dir;
   Options options;
   options.memory.time_limit_ms = 0;
   Detector detector(options, dir.File("map.db"));
   auto sequence = ImageSequence::Open(kSamples + "/images");
   std::vector<Detection> detections;
+  std::vector<std::string> names;
   Frame frame;
   int images = 0;
   while (sequence->Next(&frame)) {
@@ -48,15 +33,14 @@ TEST(RealDataTest, RtabmapSamplesHaveNoFalsePositive) {
     ASSERT_EQ(frame.name, std::to_string(frame.index + 1) + ".jpg");  // natural order
     const Result result = detector.Process(frame.image, frame.index);
     if (result.HasLoopClosure()) detections.push_back({frame.index, result.loop_closure_images});
+    names.push_back(frame.name);
     ++images;
   }
   EXPECT_EQ(images, 84);
-  const PrecisionRecall score = Evaluate(
-      detections,
-      [&](int q, int m) {
-        return truth.count({q, m}) > 0;
-      },
-      images);
+  const GroundTruth truth = GroundTruth::Load(kSamples + "/ground_truth_pairs.csv",
+                                              GroundTruthFormat::kPairs, names, images);
+  EXPECT_EQ(truth.PairCount(), 228);
+  const PrecisionRecall score = Evaluate(detections, truth);
   EXPECT_EQ(score.loop_images, 44);
   EXPECT_EQ(score.false_positives, 0);
   EXPECT_GT(score.true_positives, 0);

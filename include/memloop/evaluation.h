@@ -4,7 +4,6 @@
 // images); recall counts the images that have at least one ground-truth match.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "memloop/ground_truth.h"
@@ -19,18 +18,16 @@ struct Detection {
 };
 
 struct PrecisionRecall {
-  int detections = 0;
+  int detections = 0;  // true + false (not those on ignored pairs)
   int true_positives = 0;
   int false_positives = 0;
-  int loop_images = 0;  // images with at least one ground-truth match
+  int ignored = 0;      // detections on pairs the ground truth ignores: counted neither way
+  int loop_images = 0;  // images with at least one earlier ground-truth match
   double Precision() const { return detections == 0 ? 1.0 : double(true_positives) / detections; }
   double Recall() const { return loop_images == 0 ? 0.0 : double(true_positives) / loop_images; }
 };
 
-// `is_loop(query, match)`: ground truth for match < query. `image_count`: images of the sequence.
-PrecisionRecall Evaluate(const std::vector<Detection>& detections,
-                         const std::function<bool(ImageIndex, ImageIndex)>& is_loop,
-                         int image_count);
+PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundTruth& truth);
 
 // A point of the precision-recall curve: the hypotheses of value >= threshold accepted.
 struct PrecisionRecallPoint {
@@ -44,7 +41,6 @@ struct PrecisionRecallPoint {
 // What `memloop eval` reports for a run against ground truth.
 struct RunEvaluation {
   PrecisionRecall accepted;  // the loop closures the run accepted (at its T_loop)
-  int ignored = 0;           // accepted detections on pairs the ground truth ignores
   // Sweeping the acceptance threshold over every recorded highest hypothesis, highest first;
   // hypotheses of equal value enter together (one point per distinct value).
   std::vector<PrecisionRecallPoint> curve;

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "memloop/ground_truth.h"
+
 namespace memloop {
 
 struct SyntheticRouteOptions {
@@ -39,6 +41,8 @@ class SyntheticRoute {
   // True when frame `query` shows the same place as the earlier frame `match`, seen on another
   // visit (frames of one pass are neighbours, not loop closures).
   bool IsLoop(int query, int match) const;
+  // The same as ground truth over the route's images (for memloop::Evaluate).
+  memloop::GroundTruth Truth() const;
   // Every (query, match) with match < query and IsLoop(query, match).
   std::vector<std::pair<int, int>> GroundTruthPairs() const;
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv ("query,match" file names)

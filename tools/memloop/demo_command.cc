@@ -58,14 +58,14 @@ void AddDemoCommand(CLI::App& app) {
     const SessionReport report = RunSession(sequence, options, arguments->database, arguments->out);
 
     std::vector<Detection> detections;
-    const auto is_loop = [&](ImageIndex a, ImageIndex b) { return route.IsLoop(a, b); };
+    const GroundTruth truth = route.Truth();
     for (const Result& result : report.results) {
       if (!result.HasLoopClosure()) continue;
       detections.push_back({result.image_index, result.loop_closure_images});
-      const bool correct = Evaluate({detections.back()}, is_loop, 0).true_positives == 1;
+      const bool correct = Evaluate({detections.back()}, truth).true_positives == 1;
       std::cout << result.Brief() << (correct ? "  [true]" : "  [FALSE]") << "\n";
     }
-    const PrecisionRecall score = Evaluate(detections, is_loop, route.size());
+    const PrecisionRecall score = Evaluate(detections, truth);
     std::cout << Summary(report) << "\n";
     std::printf("precision %.1f%% (%d/%d), recall %.1f%% (%d/%d images with a loop)\n",
                 100 * score.Precision(), score.true_positives, score.detections,

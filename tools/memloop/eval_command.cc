@@ -33,7 +33,7 @@ nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
            {{"detections", e.accepted.detections},
             {"true_positives", e.accepted.true_positives},
             {"false_positives", e.accepted.false_positives},
-            {"ignored", e.ignored}}},
+            {"ignored", e.accepted.ignored}}},
           {"precision", e.accepted.Precision()},
           {"recall", e.accepted.Recall()},
           {"recall_at_100_precision", e.recall_at_full_precision},
@@ -54,8 +54,8 @@ void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::stri
               run.c_str(), e.images, ground_truth.c_str(), truth.size(), truth.size(),
               truth.PairCount(), e.accepted.loop_images);
   std::printf("loop closures accepted: %d (true %d, false %d, on ignored pairs %d)\n",
-              e.accepted.detections + e.ignored, e.accepted.true_positives,
-              e.accepted.false_positives, e.ignored);
+              e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
+              e.accepted.false_positives, e.accepted.ignored);
   std::printf("precision %.1f%%, recall %.1f%%\n", 100 * e.accepted.Precision(),
               100 * e.accepted.Recall());
   std::printf("recall at 100%% precision: %.1f%% (hypotheses >= %.4g accepted)\n",
