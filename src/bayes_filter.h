@@ -33,6 +33,8 @@ class BayesFilter {
   // p(S_t | L^t) of the WM locations, and of the virtual place.
   const std::map<LocationId, double>& posterior() const { return posterior_; }
   double virtual_place() const { return virtual_place_; }
+  // A location that entered WM after the update (retrieved) starts with probability 0.
+  void Add(LocationId id) { posterior_.emplace(id, 0.0); }
   // Forget a location that left WM.
   void Remove(LocationId id) { posterior_.erase(id); }
 

@@ -6,7 +6,9 @@
 #include "bayes_filter.h"
 #include "hypothesis.h"
 #include "likelihood.h"
+#include "consistency.h"
 #include "long_term_memory.h"
+#include "map_editor.h"
 #include "memloop/errors.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
@@ -51,7 +53,8 @@ class Detector::Impl {
         extractor_(FeatureExtractor::Create(options.features)),
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), options.dictionary),
         filter_(options.filter),
-        ltm_(database_path) {
+        ltm_(database_path),
+        editor_(memory_, ltm_, filter_) {
     for (const Parameter& parameter : Parameters()) {
       ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
     }
@@ -60,6 +63,7 @@ class Detector::Impl {
   // The paper's Fig. 1, one call per box.
   Result Process(const cv::Mat& image, ImageIndex image_index) {
     if (closed_) throw Error("Detector::Process called after Close()");
+    ltm_.CheckWriter();  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
     Stopwatch iteration;
     Result result;
@@ -82,6 +86,10 @@ class Detector::Impl {
   }
 
   void Flush() { ltm_.Flush(); }
+  void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
+  std::vector<std::string> CheckConsistency() {
+    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches());
+  }
 
   // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map.
   void Close() {
@@ -114,13 +122,7 @@ class Detector::Impl {
   void Rehearse(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.rehearsal_ms);
     const RehearsalOutcome outcome =
-        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_);
-    if (outcome.merged_id == kNoLocation) return;
-    ReleaseOrphanWords(outcome.orphan_words, memory_.dictionary(), ltm_);
-    ltm_.RedirectLocation(outcome.merged_id, t);  // LTM locations may link to L_c
-    for (auto& pending : pending_absorptions_) {
-      if (pending.second == outcome.merged_id) pending.second = t;
-    }
+        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_);
     result.rehearsal_merged_id = outcome.merged_id;
   }
 
@@ -157,8 +159,7 @@ class Detector::Impl {
   void AcceptLoopClosure(LocationId t, const Hypothesis& hypothesis, Result& result) {
     const LocationId i = hypothesis.id;
     memory_.at(t).weight += memory_.at(i).weight + 1;
-    memory_.AddLinksOf(t, i, /*link_together=*/true);
-    pending_absorptions_.emplace_back(i, t);
+    editor_.LinkLoopClosure(t, i);
     result.loop_closure_id = i;
     result.loop_closure_images = memory_.at(i).images;
     ltm_.RecordLoopClosure(
@@ -166,24 +167,13 @@ class Detector::Impl {
   }
 
   // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
-  // that matched them. One that left WM (transferred) or whose matcher did stays as it is.
+  // that matched them.
   void AbsorbPastMatches(const Hypothesis& hypothesis, const Neighbourhoods& neighbourhoods) {
     std::set<LocationId> near_highest;
     if (hypothesis.id != kNoLocation) {
       for (const auto& entry : neighbourhoods.at(hypothesis.id)) near_highest.insert(entry.first);
     }
-    std::vector<std::pair<LocationId, LocationId>> still_pending;
-    for (const auto& [old_id, survivor] : pending_absorptions_) {
-      if (!memory_.InWorkingMemory(old_id) || !memory_.Contains(survivor)) continue;
-      if (near_highest.count(old_id)) {
-        still_pending.emplace_back(old_id, survivor);
-        continue;
-      }
-      ReleaseOrphanWords(memory_.Absorb(survivor, old_id), memory_.dictionary(), ltm_);
-      ltm_.RedirectLocation(old_id, survivor);
-      filter_.Remove(old_id);
-    }
-    pending_absorptions_ = std::move(still_pending);
+    editor_.AbsorbPastMatches(near_highest);
   }
 
   void RetrieveNeighbours(const Hypothesis& hypothesis, Result& result) {
@@ -191,6 +181,7 @@ class Detector::Impl {
     const RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved,
                                               options_.filter.neighbour_range, memory_, ltm_);
     result.retrieved_ids = outcome.retrieved;
+    for (LocationId id : outcome.retrieved) filter_.Add(id);  // a new state, probability 0
     retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
   }
 
@@ -202,7 +193,7 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, memory_, ltm_, filter_);
+    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, memory_, editor_);
   }
 
   void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {
@@ -220,11 +211,11 @@ class Detector::Impl {
   Memory memory_;
   BayesFilter filter_;
   LongTermMemory ltm_;
+  MapEditor editor_;
   LocationId newest_location_ = kNoLocation;  // L_t-1 for the next image
   ImageIndex images_processed_ = 0;
   size_t dictionary_size_at_start_ = 0;
   std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
-  std::vector<std::pair<LocationId, LocationId>> pending_absorptions_;  // (L_i, its matcher)
   bool closed_ = false;
 };
 
@@ -244,6 +235,8 @@ Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
 }
 
 void Detector::Flush() { impl_->Flush(); }
+void Detector::SetWriterHeld(bool held) { impl_->SetWriterHeld(held); }
+std::vector<std::string> Detector::CheckConsistency() { return impl_->CheckConsistency(); }
 void Detector::Close() { impl_->Close(); }
 const Options& Detector::options() const { return impl_->options(); }
 

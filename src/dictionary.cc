@@ -1,5 +1,6 @@
 #include "dictionary.h"
 
+#include <algorithm>
 #include <cassert>
 
 #include "memloop/errors.h"
@@ -67,6 +68,14 @@ void Dictionary::Remove(WordId id) {
   assert(References(id).empty());
   index_->Remove(id);
   words_.erase(id);
+}
+
+std::vector<WordId> Dictionary::Ids() const {
+  std::vector<WordId> ids;
+  ids.reserve(words_.size());
+  for (const auto& entry : words_) ids.push_back(entry.first);
+  std::sort(ids.begin(), ids.end());
+  return ids;
 }
 
 cv::Mat Dictionary::Descriptor(WordId id) const { return index_->Descriptor(id); }

@@ -35,6 +35,8 @@ class Dictionary {
   void Remove(WordId id);
 
   bool Contains(WordId id) const { return words_.count(id) > 0; }
+  // Every word's id, sorted.
+  std::vector<WordId> Ids() const;
   // The word's descriptor as a 1-row matrix (a copy).
   cv::Mat Descriptor(WordId id) const;
   size_t size() const { return words_.size(); }

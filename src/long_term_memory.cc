@@ -15,11 +15,28 @@ void EraseCommitted(Map& pending, long long committed) {
   }
 }
 
+// A rename or redirection `from -> to` queued after others: those that ended at `from` now end at
+// `to`, and stay in the overlay until this one is committed too.
+template <typename Map, typename Id>
+void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
+  for (auto& [key, entry] : pending) {
+    if (entry.second == from) entry = {sequence, to};
+  }
+  pending[from] = {sequence, to};
+}
+
+size_t BytesOf(const Location& location) {
+  return sizeof(Location) + location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
+         (location.neighbours.size() + location.loop_closures.size()) * 48 +
+         location.images.size() * sizeof(ImageIndex);
+}
+
 }  // namespace
 
-LongTermMemory::LongTermMemory(const std::string& path)
-    : path_(path), reader_(path, LtmDatabase::Mode::kCreate) {
-  writer_ = std::thread([this] { WriterLoop(); });
+LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
+                               const LtmOptions& options)
+    : path_(path), reader_(path, mode), max_pending_bytes_(options.max_pending_bytes) {
+  writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
 LongTermMemory::~LongTermMemory() {
@@ -31,22 +48,51 @@ LongTermMemory::~LongTermMemory() {
   writer_.join();
 }
 
+void LongTermMemory::ThrowIfFailedLocked() const {
+  if (!writer_failure_.empty()) throw DatabaseError(path_, writer_failure_);
+}
+
+void LongTermMemory::Overlay(long long sequence, const Operation& operation) {
+  if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+    pending_locations_[store->location.id] = {sequence, store->location};
+  } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+    pending_words_[word->id] = {sequence, word->descriptor};
+  } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
+    pending_words_.erase(rename->old_id);
+    ResolveChains(pending_renames_, rename->old_id, rename->new_id, sequence);
+  } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
+    pending_locations_.erase(redirect->absorbed);
+    pending_links_.erase(redirect->absorbed);
+    ResolveChains(pending_redirects_, redirect->absorbed, redirect->survivor, sequence);
+  } else if (const auto* link = std::get_if<AddLinkOp>(&operation)) {
+    pending_links_[link->from].emplace_back(sequence, *link);
+  }
+}
+
 void LongTermMemory::Enqueue(Operation operation) {
+  size_t bytes = 64;
+  if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+    bytes += BytesOf(store->location);
+  } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+    bytes += word->descriptor.size();
+  }
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const long long sequence = next_sequence_++;
-    if (auto* store = std::get_if<StoreLocation>(&operation)) {
-      pending_locations_[store->location.id] = {sequence, store->location};
-    } else if (auto* word = std::get_if<StoreWordOp>(&operation)) {
-      pending_words_[word->id] = {sequence, word->descriptor};
-    } else if (auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
-      pending_words_.erase(rename->old_id);
-      pending_renames_[rename->old_id] = {sequence, rename->new_id};
-    } else if (auto* redirect = std::get_if<RedirectOp>(&operation)) {
-      pending_locations_.erase(redirect->absorbed);
-      pending_redirects_[redirect->absorbed] = {sequence, redirect->survivor};
+    std::unique_lock<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
+    if (pending_bytes_ + bytes > max_pending_bytes_ && pending_bytes_ > 0) {
+      ++waiting_;
+      wake_writer_.notify_one();
+      committed_.wait(lock, [&] {
+        return pending_bytes_ + bytes <= max_pending_bytes_ || pending_bytes_ == 0 ||
+               !writer_failure_.empty();
+      });
+      --waiting_;
+      ThrowIfFailedLocked();
     }
-    queue_.push_back({sequence, std::move(operation)});
+    const long long sequence = next_sequence_++;
+    Overlay(sequence, operation);
+    pending_bytes_ += bytes;
+    queue_.push_back({sequence, bytes, std::move(operation)});
   }
   wake_writer_.notify_one();
 }
@@ -71,31 +117,45 @@ void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor) 
   Enqueue(RedirectOp{absorbed, survivor});
 }
 
+void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) {
+  Enqueue(AddLinkOp{from, to, loop_closure});
+}
+
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
 
 void LongTermMemory::WriteInfo(const std::string& key, const std::string& value) {
   Enqueue(InfoOp{key, value});
 }
 
+WordId LongTermMemory::Renamed(WordId word) const {
+  const auto renamed = pending_renames_.find(word);
+  return renamed == pending_renames_.end() ? word : renamed->second.second;
+}
+
+LocationId LongTermMemory::Redirected(LocationId id) const {
+  const auto redirected = pending_redirects_.find(id);
+  return redirected == pending_redirects_.end() ? id : redirected->second.second;
+}
+
 void LongTermMemory::Rewrite(Location& location) const {
-  for (WordId& word : location.signature.words) {
-    const auto renamed = pending_renames_.find(word);
-    if (renamed != pending_renames_.end()) word = renamed->second.second;
-  }
-  for (auto* links : {&location.neighbours, &location.loop_closures}) {
-    std::set<LocationId> rewritten;
-    for (LocationId link : *links) {
-      const auto redirected = pending_redirects_.find(link);
-      rewritten.insert(redirected == pending_redirects_.end() ? link : redirected->second.second);
+  for (WordId& word : location.signature.words) word = Renamed(word);
+  const auto links = pending_links_.find(location.id);
+  if (links != pending_links_.end()) {
+    for (const auto& [sequence, link] : links->second) {
+      (link.loop_closure ? location.loop_closures : location.neighbours).insert(link.to);
     }
+  }
+  for (auto* set : {&location.neighbours, &location.loop_closures}) {
+    std::set<LocationId> rewritten;
+    for (LocationId link : *set) rewritten.insert(Redirected(link));
     rewritten.erase(location.id);
-    *links = std::move(rewritten);
+    *set = std::move(rewritten);
   }
 }
 
 std::optional<Location> LongTermMemory::ReadLocked(LocationId id, bool links_only) {
-  // Called with mutex_ held, from the pending copy to the file: the writer forgets a committed
-  // rename or redirection only under mutex_, so none can slip between this read and Rewrite().
+  // Called with mutex_ held. The writer may commit during the read, but it forgets a committed
+  // write only under mutex_, so the overlay still holds it and applying it twice is harmless.
   std::optional<Location> location;
   const auto pending = pending_locations_.find(id);
   if (pending != pending_locations_.end()) {
@@ -111,12 +171,18 @@ std::optional<Location> LongTermMemory::ReadLocked(LocationId id, bool links_onl
   return location;
 }
 
+std::optional<Location> LongTermMemory::Peek(LocationId id) {
+  if (!Contains(id)) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  return ReadLocked(id, /*links_only=*/false);
+}
+
 std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
   if (!Contains(id)) return std::nullopt;
-  RethrowWriterFailure();
   std::optional<Location> location;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
     location = ReadLocked(id, /*links_only=*/false);
   }
   if (!location) throw DatabaseError(path_, "location " + std::to_string(id) + " is missing");
@@ -141,16 +207,31 @@ std::vector<LocationId> LongTermMemory::LinksOf(LocationId id) {
 
 void LongTermMemory::Flush() {
   std::unique_lock<std::mutex> lock(mutex_);
+  ++waiting_;
+  wake_writer_.notify_one();
   committed_.wait(lock, [this] {
     return committed_sequence_ >= next_sequence_ - 1 || !writer_failure_.empty();
   });
-  lock.unlock();
-  RethrowWriterFailure();
+  --waiting_;
+  ThrowIfFailedLocked();
 }
 
-void LongTermMemory::RethrowWriterFailure() {
+void LongTermMemory::CheckWriter() {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!writer_failure_.empty()) throw DatabaseError(path_, writer_failure_);
+  ThrowIfFailedLocked();
+}
+
+void LongTermMemory::SetWriterHeld(bool held) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    held_ = held;
+  }
+  wake_writer_.notify_one();
+}
+
+size_t LongTermMemory::pending_bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pending_bytes_;
 }
 
 void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
@@ -162,6 +243,8 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
     database.ReplaceWord(rename->old_id, rename->new_id);
   } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
     database.RedirectLocation(redirect->absorbed, redirect->survivor);
+  } else if (const auto* link = std::get_if<AddLinkOp>(&operation)) {
+    database.WriteLink(link->from, link->to, link->loop_closure);
   } else if (const auto* record = std::get_if<LoopClosureRecord>(&operation)) {
     database.WriteLoopClosure(*record);
   } else if (const auto* info = std::get_if<InfoOp>(&operation)) {
@@ -169,30 +252,45 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
   }
 }
 
-void LongTermMemory::Forget(long long committed) {
+void LongTermMemory::Forget(long long committed, size_t bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
   committed_sequence_ = committed;
+  pending_bytes_ -= bytes;
   EraseCommitted(pending_locations_, committed);
   EraseCommitted(pending_words_, committed);
   EraseCommitted(pending_renames_, committed);
   EraseCommitted(pending_redirects_, committed);
+  for (auto entry = pending_links_.begin(); entry != pending_links_.end();) {
+    auto& links = entry->second;
+    links.erase(std::remove_if(links.begin(), links.end(),
+                               [&](const auto& link) { return link.first <= committed; }),
+                links.end());
+    entry = links.empty() ? pending_links_.erase(entry) : std::next(entry);
+  }
 }
 
-void LongTermMemory::WriterLoop() {
+void LongTermMemory::WriterLoop(LtmOptions options) {
   try {
     LtmDatabase database(path_, LtmDatabase::Mode::kOpen);
+    if (options.max_page_count > 0) database.LimitPages(options.max_page_count);
     for (;;) {
       std::deque<Queued> batch;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_writer_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+        wake_writer_.wait(lock, [this] {
+          return stopping_ || (!queue_.empty() && (!held_ || waiting_ > 0));
+        });
         if (queue_.empty() && stopping_) return;
         batch.swap(queue_);
       }
+      size_t bytes = 0;
       database.Begin();
-      for (const Queued& queued : batch) Apply(database, queued.operation);
+      for (const Queued& queued : batch) {
+        Apply(database, queued.operation);
+        bytes += queued.bytes;
+      }
       database.Commit();
-      Forget(batch.back().sequence);
+      Forget(batch.back().sequence, bytes);
       committed_.notify_all();
     }
   } catch (const std::exception& error) {

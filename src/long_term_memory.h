@@ -1,8 +1,8 @@
 // The Long-Term Memory (paper III): locations transferred out of WM, and the words only they
 // refer to, on disk. Writes are asynchronous (paper III-F: "done asynchronously using a background
 // thread"): they are queued, and a writer thread commits them in batched transactions. Until a
-// write is committed, reads are answered from the queued copy, so the detector never waits for the
-// disk except in Flush() and when retrieving a location that must be read from the file.
+// write is committed, reads are answered through an overlay of the queued writes, so a read gives
+// the same answer however far the writer is behind (the detector's determinism rests on it).
 // All methods are called from the detector's thread; the writer thread is internal.
 #pragma once
 
@@ -21,10 +21,20 @@
 
 namespace memloop {
 
+struct LtmOptions {
+  // Back-pressure: when queued writes hold more than this, the detector waits for the writer, so
+  // RAM stays bounded whatever the disk's speed.
+  size_t max_pending_bytes = size_t{64} << 20;
+  // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
+  // value to meet a full disk.
+  long long max_page_count = 0;
+};
+
 class LongTermMemory {
  public:
-  // Creates a new map at `path` (see LtmDatabase for what is refused).
-  explicit LongTermMemory(const std::string& path);
+  // Opens the map at `path` (see LtmDatabase for what is refused in each mode).
+  LongTermMemory(const std::string& path, LtmDatabase::Mode mode = LtmDatabase::Mode::kCreate,
+                 const LtmOptions& options = {});
   // Commits everything queued, then stops the writer.
   ~LongTermMemory();
   LongTermMemory(const LongTermMemory&) = delete;
@@ -36,20 +46,34 @@ class LongTermMemory {
   void StoreWord(WordId id, const cv::Mat& descriptor);
   // Retrieval (III-E): the location goes back to WM (its rows stay until it is stored again).
   std::optional<Location> Retrieve(LocationId id);
+  // The location as LTM holds it, without taking it out; nullopt when it is not in LTM.
+  std::optional<Location> Peek(LocationId id);
   // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
   std::optional<std::vector<unsigned char>> LoadWord(WordId id);
   // Links of a location in LTM, sorted; empty when it is not in LTM.
   std::vector<LocationId> LinksOf(LocationId id);
   bool Contains(LocationId id) const { return ids_.count(id) > 0; }
+  const std::set<LocationId>& ids() const { return ids_; }
   size_t size() const { return ids_.size(); }
 
+  // Every reference to the word `old_id` becomes `new_id` (re-matched on retrieval, III-E).
   void ReplaceWord(WordId old_id, WordId new_id);
+  // `absorbed` was merged into `survivor`: links to it now point to the survivor.
   void RedirectLocation(LocationId absorbed, LocationId survivor);
+  // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
+  void AddLink(LocationId from, LocationId to, bool loop_closure);
   void RecordLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
 
   // Blocks until every queued write is committed. Rethrows a writer failure.
   void Flush();
+  // Throws DatabaseError when the writer has failed (a full disk, a removed file): the map on
+  // disk no longer follows memory, so the detector must stop.
+  void CheckWriter();
+  // For tests: while held, the writer commits nothing unless someone waits for it (a full queue,
+  // Flush, destruction). Reads must give the same answers either way.
+  void SetWriterHeld(bool held);
+  size_t pending_bytes() const;
   const std::string& path() const { return path_; }
 
  private:
@@ -68,25 +92,34 @@ class LongTermMemory {
     LocationId absorbed;
     LocationId survivor;
   };
+  struct AddLinkOp {
+    LocationId from;
+    LocationId to;
+    bool loop_closure;
+  };
   struct InfoOp {
     std::string key;
     std::string value;
   };
-  using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp,
+  using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
                                  LoopClosureRecord, InfoOp>;
   struct Queued {
     long long sequence;
+    size_t bytes;
     Operation operation;
   };
 
   void Enqueue(Operation operation);
-  void WriterLoop();
+  void Overlay(long long sequence, const Operation& operation);
+  void WriterLoop(LtmOptions options);
   void Apply(LtmDatabase& database, const Operation& operation);
-  void Forget(long long committed);
-  void RethrowWriterFailure();
+  void Forget(long long committed, size_t bytes);
+  void ThrowIfFailedLocked() const;
   std::optional<Location> ReadLocked(LocationId id, bool links_only);
-  // Applies pending renames and redirections to a location read from the queue or the file.
+  // Applies queued renames, redirections and links to a location read from the queue or file.
   void Rewrite(Location& location) const;
+  WordId Renamed(WordId word) const;
+  LocationId Redirected(LocationId id) const;
 
   std::string path_;
   LtmDatabase reader_;
@@ -96,13 +129,20 @@ class LongTermMemory {
   std::condition_variable wake_writer_;
   std::condition_variable committed_;
   std::deque<Queued> queue_;
+  size_t max_pending_bytes_;
+  size_t pending_bytes_ = 0;
+  int waiting_ = 0;  // threads waiting for the writer: a held writer then goes on
+  bool held_ = false;
   long long next_sequence_ = 1;
   long long committed_sequence_ = 0;
-  // Queued, not yet committed: what reads must see. Values: (sequence of the write, data).
+  // The overlay: queued, not yet committed. Values: (sequence of the write, data). Renames and
+  // redirections are kept resolved to their end (A->S then S->S2 gives A->S2), so one look-up
+  // gives what the file will say once everything is committed.
   std::map<LocationId, std::pair<long long, Location>> pending_locations_;
   std::map<WordId, std::pair<long long, std::vector<unsigned char>>> pending_words_;
   std::map<WordId, std::pair<long long, WordId>> pending_renames_;
   std::map<LocationId, std::pair<long long, LocationId>> pending_redirects_;
+  std::map<LocationId, std::vector<std::pair<long long, AddLinkOp>>> pending_links_;
   bool stopping_ = false;
   std::string writer_failure_;
   std::thread writer_;

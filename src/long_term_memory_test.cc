@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "memloop/errors.h"
 #include "small_memory.h"
 #include "temp_dir.h"
 
@@ -59,6 +60,106 @@ TEST(LongTermMemoryTest, SurvivesKill9) {
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
   EXPECT_GE(database.CountLocations(), 50);
   EXPECT_EQ(database.ReadLocation(50)->signature.words, (std::vector<WordId>{50, 1050}));
+}
+
+}  // namespace
+}  // namespace memloop
+
+namespace memloop {
+namespace {
+
+// Queued renames and redirections chain (A->S then S->S2): reads give the end of the chain
+// whether the writer is behind (held) or has committed, and the same answer in both cases.
+class LongTermMemoryChainTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(LongTermMemoryChainTest, RenamesAndRedirectionsResolveToTheirEnd) {
+  const bool writer_behind = GetParam();
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"));
+  ltm.SetWriterHeld(writer_behind);
+  const auto sync = [&] {
+    if (!writer_behind) ltm.Flush();
+  };
+  ltm.Store(MakeLocation(5, {10, 11}));  // links 4 and 6
+  ltm.StoreWord(10, (cv::Mat_<float>(1, 2) << 1.f, 2.f));
+  sync();
+  ltm.ReplaceWord(10, 20);  // word 10 re-matched to 20 ...
+  sync();
+  ltm.StoreWord(20, (cv::Mat_<float>(1, 2) << 3.f, 4.f));  // ... which left the dictionary ...
+  sync();
+  ltm.ReplaceWord(20, 30);  // ... and was re-matched to 30
+  sync();
+  ltm.RedirectLocation(6, 7);  // 6 merged into 7, then 7 into 8
+  sync();
+  ltm.RedirectLocation(7, 8);
+  sync();
+  EXPECT_FALSE(ltm.LoadWord(10).has_value());
+  EXPECT_FALSE(ltm.LoadWord(20).has_value());
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 8}));
+  const auto location = ltm.Retrieve(5);
+  ASSERT_TRUE(location.has_value());
+  EXPECT_EQ(location->signature.words, (std::vector<WordId>{30, 11}));
+  EXPECT_EQ(location->neighbours, (std::set<LocationId>{4, 8}));
+  ltm.SetWriterHeld(false);
+  ltm.Flush();
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kOpen);
+  EXPECT_EQ(database.ReadLocation(5)->signature.words, (std::vector<WordId>{30, 11}));
+  EXPECT_EQ(database.ReadLinks(5), (std::vector<LocationId>{4, 8}));
+}
+
+INSTANTIATE_TEST_SUITE_P(WriterBehindOrNot, LongTermMemoryChainTest, ::testing::Bool());
+
+TEST(LongTermMemoryTest, AddedLinksAreReadBeforeAndAfterCommit) {
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"));
+  ltm.SetWriterHeld(true);
+  ltm.Store(MakeLocation(5, {1}));
+  ltm.AddLink(5, 40, /*loop_closure=*/true);
+  EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
+  ltm.SetWriterHeld(false);
+  ltm.Flush();
+  EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6, 40}));
+}
+
+// Back-pressure: a held writer is made to commit once the queue is full, so RAM stays bounded.
+TEST(LongTermMemoryTest, QueueIsBoundedEvenWhenTheWriterIsHeld) {
+  testing::TempDir dir;
+  LtmOptions options;
+  options.max_pending_bytes = 64 * 1024;
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, options);
+  ltm.SetWriterHeld(true);
+  size_t most = 0;
+  for (int id = 1; id <= 300; ++id) {
+    ltm.Store(MakeLocation(id, std::vector<WordId>(50, id)));
+    most = std::max(most, ltm.pending_bytes());
+  }
+  EXPECT_LE(most, options.max_pending_bytes);
+  EXPECT_GT(most, options.max_pending_bytes / 2);  // it did fill up before committing
+  EXPECT_EQ(ltm.Peek(300)->signature.words.size(), 50u);
+}
+
+// A full disk (emulated with SQLite's page limit) stops the run at the next call, not at Close.
+TEST(LongTermMemoryTest, WriterFailureIsReportedAtTheNextCall) {
+  testing::TempDir dir;
+  LtmOptions options;
+  options.max_page_count = 12;
+  options.max_pending_bytes = 16 * 1024;  // the queue fills soon: the failure must come back
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, options);
+  bool failed = false;
+  for (int id = 1; id <= 2000 && !failed; ++id) {
+    try {
+      ltm.Store(MakeLocation(id, std::vector<WordId>(100, id)));
+    } catch (const DatabaseError& error) {
+      failed = true;
+      EXPECT_NE(std::string(error.what()).find("writing the map failed"), std::string::npos);
+      EXPECT_NE(std::string(error.what()).find("full"), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_TRUE(failed);
+  EXPECT_THROW(ltm.CheckWriter(), DatabaseError);
+  EXPECT_THROW(ltm.Flush(), DatabaseError);
+  EXPECT_LE(ltm.pending_bytes(), options.max_pending_bytes);
 }
 
 }  // namespace

@@ -174,6 +174,18 @@ void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
       .Run();
 }
 
+void LtmDatabase::WriteLink(LocationId from, LocationId to, bool loop_closure) {
+  Cached("INSERT OR IGNORE INTO links(from_id, to_id, type) VALUES(?,?,?)")
+      .Bind(1, static_cast<long long>(from))
+      .Bind(2, static_cast<long long>(to))
+      .Bind(3, 0LL + (loop_closure ? kLinkLoopClosure : kLinkNeighbour))
+      .Run();
+}
+
+void LtmDatabase::LimitPages(long long pages) {
+  connection_.Execute("PRAGMA max_page_count=" + std::to_string(pages));
+}
+
 void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
   Cached(
       "INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"

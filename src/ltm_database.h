@@ -35,6 +35,8 @@ class LtmDatabase {
   // (kCreate) already holding a map. A refused file is never written to.
   LtmDatabase(const std::string& path, Mode mode);
 
+  // SQLite max_page_count: writes past it fail as on a full disk (tests).
+  void LimitPages(long long pages);
   void Begin();
   void Commit();
 
@@ -45,6 +47,8 @@ class LtmDatabase {
   void ReplaceWord(WordId old_id, WordId new_id);
   // `absorbed` was merged into `survivor`: links to it now point to the survivor; its row goes.
   void RedirectLocation(LocationId absorbed, LocationId survivor);
+  // A link of `from` (neighbour or loop closure) to `to`, kept when it exists already.
+  void WriteLink(LocationId from, LocationId to, bool loop_closure);
   void WriteLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
 

@@ -49,23 +49,28 @@ std::vector<WordId> Memory::ReplaceSignature(LocationId id, Signature signature)
   return orphans;
 }
 
-void Memory::AddLinksOf(LocationId target, LocationId source, bool link_together) {
+std::vector<LinkToLtm> Memory::AddLinksOf(LocationId target, LocationId source,
+                                          bool link_together) {
+  std::vector<LinkToLtm> to_ltm;
   Location& to = at(target);
   const Location& from = at(source);
-  for (LocationId id : from.neighbours) {
-    if (id == target) continue;
-    to.neighbours.insert(id);
-    if (Contains(id)) at(id).neighbours.insert(target);
-  }
-  for (LocationId id : from.loop_closures) {
-    if (id == target) continue;
-    to.loop_closures.insert(id);
-    if (Contains(id)) at(id).loop_closures.insert(target);
+  for (const bool loop_closure : {false, true}) {
+    for (LocationId id : loop_closure ? from.loop_closures : from.neighbours) {
+      if (id == target) continue;
+      auto& links = loop_closure ? to.loop_closures : to.neighbours;
+      if (!links.insert(id).second) continue;
+      if (Contains(id)) {
+        (loop_closure ? at(id).loop_closures : at(id).neighbours).insert(target);
+      } else {
+        to_ltm.push_back({id, loop_closure});
+      }
+    }
   }
   if (link_together) {
     to.loop_closures.insert(source);
     at(source).loop_closures.insert(target);
   }
+  return to_ltm;
 }
 
 std::vector<WordId> Memory::Absorb(LocationId survivor, LocationId absorbed) {

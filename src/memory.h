@@ -15,6 +15,11 @@
 
 namespace memloop {
 
+struct LinkToLtm {
+  LocationId ltm_location = kNoLocation;
+  bool loop_closure = false;
+};
+
 class Memory {
  public:
   Memory(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& dictionary_options);
@@ -45,8 +50,9 @@ class Memory {
   std::vector<WordId> ReplaceSignature(LocationId id, Signature signature);
 
   // Adds the links of `source` (neighbours and loop closures, both ways) to `target`, and a
-  // loop-closure link between them when `link_together` (III-D).
-  void AddLinksOf(LocationId target, LocationId source, bool link_together);
+  // loop-closure link between them when `link_together` (III-D). Returns the links made to
+  // locations not in memory (in LTM): their side is the caller's to write.
+  std::vector<LinkToLtm> AddLinksOf(LocationId target, LocationId source, bool link_together);
 
   // `absorbed` disappears into `survivor`: its links and images go to the survivor, links of other
   // locations in memory that pointed to it now point to the survivor. Returns the words left

@@ -2,7 +2,7 @@
 
 namespace memloop {
 
-RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory) {
+RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor) {
   RehearsalOutcome outcome;
   const auto& stm = memory.stm();
   for (auto candidate = stm.rbegin(); candidate != stm.rend(); ++candidate) {
@@ -18,9 +18,8 @@ RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory) {
 
   const LocationId merged = outcome.merged_id;
   memory.at(new_id).weight += memory.at(merged).weight + 1;
-  outcome.orphan_words = memory.ReplaceSignature(new_id, memory.at(merged).signature);
-  const std::vector<WordId> more = memory.Absorb(new_id, merged);
-  outcome.orphan_words.insert(outcome.orphan_words.end(), more.begin(), more.end());
+  editor.ReplaceSignature(new_id, memory.at(merged).signature);
+  editor.Merge(new_id, merged);
   return outcome;
 }
 

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "map_editor.h"
 #include "memory.h"
 
 namespace memloop {
@@ -11,12 +12,12 @@ namespace memloop {
 struct RehearsalOutcome {
   LocationId merged_id = kNoLocation;  // L_c, kNoLocation when none was similar enough
   double similarity = 0;
-  std::vector<WordId> orphan_words;  // words no location refers to any more
 };
 
 // Compares L_t (`new_id`, the newest STM location) with the other STM locations. On a merge:
 // z_t is cleared and z_c copied into it, weight_t += weight_c + 1, L_c's links go to L_t and
-// L_c is deleted from STM.
-RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory);
+// L_c is deleted from STM (through `editor`, which keeps LTM, the dictionary and the filter in
+// agreement).
+RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor);
 
 }  // namespace memloop

@@ -2,8 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "small_memory.h"
-#include "temp_dir.h"
+#include "small_map.h"
 #include "transfer.h"
 
 namespace memloop {
@@ -11,8 +10,7 @@ namespace {
 
 class RetrievalTest : public ::testing::Test {
  protected:
-  RetrievalTest() : memory_(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions()) {
-    ltm_ = std::make_unique<LongTermMemory>(dir_.File("map.db"));
+  RetrievalTest() {
     // A chain L1 .. L5; L3 and L4 share word 7; L3 also has word 18.
     ids_ = testing::AddChain(memory_, {{1}, {2}, {3, 7, 18}, {4, 7}, {5}});
     memory_.MoveStmOverflowToWm(0);
@@ -21,13 +19,12 @@ class RetrievalTest : public ::testing::Test {
     TransferTrigger trigger;
     trigger.max_wm_locations = 2;
     trigger.dictionary_size_at_start = memory_.dictionary().size();
-    Transfer(trigger, {ids_[4]}, memory_, *ltm_, filter_);
+    Transfer(trigger, {ids_[4]}, memory_, map_.editor);
   }
 
-  testing::TempDir dir_;
-  Memory memory_;
-  std::unique_ptr<LongTermMemory> ltm_;
-  BayesFilter filter_{FilterOptions()};
+  testing::SmallMap map_;
+  Memory& memory_ = map_.memory;
+  LongTermMemory* ltm_ = &map_.ltm;
   std::vector<LocationId> ids_;
 };
 

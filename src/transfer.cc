@@ -15,18 +15,8 @@ std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<Locat
   return order;
 }
 
-void ReleaseOrphanWords(const std::vector<WordId>& orphans, Dictionary& dictionary,
-                        LongTermMemory& ltm) {
-  for (WordId word : orphans) {
-    if (dictionary.IsReferencedByLtm(word)) {
-      ltm.StoreWord(word, dictionary.Descriptor(word));
-    }
-    dictionary.Remove(word);
-  }
-}
-
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
-                                 Memory& memory, LongTermMemory& ltm, BayesFilter& filter) {
+                                 const Memory& memory, MapEditor& editor) {
   const Dictionary& dictionary = memory.dictionary();
   const auto over_budget = [&] {
     return (trigger.max_wm_locations > 0 &&
@@ -39,12 +29,7 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   for (LocationId id : TransferOrder(memory, immune)) {
     const bool enough = !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start;
     if (enough && !transferred.empty()) break;
-    std::vector<WordId> orphans;
-    Location location = memory.Release(id, &orphans);
-    for (WordId word : location.signature.words) memory.dictionary().MarkReferencedByLtm(word);
-    ReleaseOrphanWords(orphans, memory.dictionary(), ltm);
-    ltm.Store(location);
-    filter.Remove(id);
+    editor.TransferToLtm(id);
     transferred.push_back(id);
   }
   return transferred;

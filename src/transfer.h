@@ -6,8 +6,7 @@
 #include <set>
 #include <vector>
 
-#include "bayes_filter.h"
-#include "long_term_memory.h"
+#include "map_editor.h"
 #include "memory.h"
 
 namespace memloop {
@@ -25,11 +24,6 @@ std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<Locat
 
 // Transfers while the trigger holds (at least one location once triggered). Returns the ids.
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
-                                 Memory& memory, LongTermMemory& ltm, BayesFilter& filter);
-
-// Words no location in memory refers to leave the dictionary; those LTM locations refer to are
-// kept in LTM with their descriptors.
-void ReleaseOrphanWords(const std::vector<WordId>& orphans, Dictionary& dictionary,
-                        LongTermMemory& ltm);
+                                 const Memory& memory, MapEditor& editor);
 
 }  // namespace memloop

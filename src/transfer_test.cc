@@ -2,17 +2,14 @@
 
 #include <gtest/gtest.h>
 
-#include "small_memory.h"
-#include "temp_dir.h"
+#include "small_map.h"
 
 namespace memloop {
 namespace {
 
 class TransferTest : public ::testing::Test {
  protected:
-  TransferTest()
-      : memory_(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions()),
-        ltm_(dir_.File("map.db")) {
+  TransferTest() {
     // L1 {1, 2}, L2 {3, 4}, L3 {5, 6}, L4 {7, 1}: word 1 shared by L1 and L4.
     ids_ = testing::AddChain(memory_, {{1, 2}, {3, 4}, {5, 6}, {7, 1}});
     memory_.MoveStmOverflowToWm(0);
@@ -20,10 +17,10 @@ class TransferTest : public ::testing::Test {
     for (int i = 0; i < 4; ++i) memory_.at(ids_[i]).weight = weights[i];
   }
 
-  testing::TempDir dir_;
-  Memory memory_;
-  LongTermMemory ltm_;
-  BayesFilter filter_{FilterOptions()};
+  testing::SmallMap map_;
+  Memory& memory_ = map_.memory;
+  LongTermMemory& ltm_ = map_.ltm;
+  MapEditor& editor_ = map_.editor;
   std::vector<LocationId> ids_;
 };
 
@@ -39,7 +36,7 @@ TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {
   trigger.time_exceeded = true;
   // 7 words now; "3 were added this iteration": transfer until 4 remain at most.
   trigger.dictionary_size_at_start = memory_.dictionary().size() - 3;
-  const auto transferred = Transfer(trigger, {}, memory_, ltm_, filter_);
+  const auto transferred = Transfer(trigger, {}, memory_, editor_);
   // L2 frees words 3, 4 (5 left: not enough), L3 frees 5, 6 (3 left): stop.
   EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[1], ids_[2]}));
   EXPECT_EQ(memory_.dictionary().size(), 3u);
@@ -53,14 +50,14 @@ TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {
   TransferTrigger trigger;
   trigger.time_exceeded = true;
   trigger.dictionary_size_at_start = memory_.dictionary().size();  // nothing added
-  EXPECT_EQ(Transfer(trigger, {}, memory_, ltm_, filter_).size(), 1u);
+  EXPECT_EQ(Transfer(trigger, {}, memory_, editor_).size(), 1u);
 }
 
 TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
   TransferTrigger trigger;
   trigger.max_wm_locations = 2;
   trigger.dictionary_size_at_start = memory_.dictionary().size();
-  const auto transferred = Transfer(trigger, {ids_[1]}, memory_, ltm_, filter_);
+  const auto transferred = Transfer(trigger, {ids_[1]}, memory_, editor_);
   EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L2 was retrieved
   EXPECT_EQ(memory_.working_memory().size(), 2u);
   // L4 shared word 1 with L1: it stays in the dictionary, marked as held by LTM too.
@@ -72,14 +69,14 @@ TEST_F(TransferTest, DictionaryBudget) {
   TransferTrigger trigger;
   trigger.max_dictionary_words = 5;
   trigger.dictionary_size_at_start = memory_.dictionary().size();
-  EXPECT_EQ(Transfer(trigger, {}, memory_, ltm_, filter_), (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(Transfer(trigger, {}, memory_, editor_), (std::vector<LocationId>{ids_[1]}));
   EXPECT_EQ(memory_.dictionary().size(), 5u);
 }
 
 TEST_F(TransferTest, NoTriggerNoTransfer) {
   TransferTrigger trigger;
   trigger.dictionary_size_at_start = 0;
-  EXPECT_TRUE(Transfer(trigger, {}, memory_, ltm_, filter_).empty());
+  EXPECT_TRUE(Transfer(trigger, {}, memory_, editor_).empty());
 }
 
 }  // namespace

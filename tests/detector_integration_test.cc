@@ -1,6 +1,7 @@
 // The whole detector on the generated route, whose ground truth is exact.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <set>
 
 #include "ltm_database.h"
@@ -13,12 +14,21 @@
 namespace memloop {
 namespace {
 
-std::vector<Result> RunRoute(const SyntheticRoute& route, const Options& options) {
+// Checks the map's invariants after every image (Detector::CheckConsistency).
+void ExpectConsistent(Detector& detector, int index) {
+  for (const std::string& problem : detector.CheckConsistency()) {
+    ADD_FAILURE() << "after image " << index << ": " << problem;
+  }
+}
+
+std::vector<Result> RunRoute(const SyntheticRoute& route, const Options& options,
+                             bool check_every_image = true) {
   testing::TempDir dir;
   Detector detector(options, dir.File("map.db"));
   std::vector<Result> results;
   for (int index = 0; index < route.size(); ++index) {
     results.push_back(detector.Process(route.Render(index), index));
+    if (check_every_image) ExpectConsistent(detector, index);
   }
   return results;
 }
@@ -206,6 +216,115 @@ TEST(DetectorIntegrationTest, InvalidOptionsAreRefused) {
 
 TEST(DetectorIntegrationTest, DefaultResultSaysNotRun) {
   EXPECT_EQ(Result().Brief(), "Detector::Process was not called.");
+}
+
+}  // namespace
+}  // namespace memloop
+
+namespace memloop {
+namespace {
+
+// Everything a map file holds, as text, in a fixed order: two runs' files can be compared.
+std::string MapContent(const std::string& path) {
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  std::string text;
+  for (LocationId id = 1; id < 5000; ++id) {
+    const auto location = database.ReadLocation(id);
+    if (!location) continue;
+    text += "L" + std::to_string(id) + " w" + std::to_string(location->weight) + " n";
+    for (LocationId link : location->neighbours) text += std::to_string(link) + ",";
+    text += " c";
+    for (LocationId link : location->loop_closures) text += std::to_string(link) + ",";
+    text += " i";
+    for (ImageIndex image : location->images) text += std::to_string(image) + ",";
+    text += " z";
+    for (WordId word : location->signature.words) {
+      text += std::to_string(word) + ",";
+      if (!database.ReadWord(word)) text += "(missing)";
+    }
+    text += "\n";
+  }
+  for (const LoopClosureRecord& record : database.ReadLoopClosures()) {
+    text += "LC " + std::to_string(record.query_image) + " " + std::to_string(record.match_image) +
+            " " + std::to_string(record.probability) + "\n";
+  }
+  return text;
+}
+
+struct RouteRun {
+  std::vector<Result> results;
+  std::string map;
+};
+
+// The route with the LTM writer held back at random moments (seeded), or never.
+RouteRun RunWithWriterHeld(const SyntheticRoute& route, const Options& options, unsigned seed) {
+  testing::TempDir dir;
+  RouteRun run;
+  {
+    Detector detector(options, dir.File("map.db"));
+    std::mt19937 random(seed);
+    for (int index = 0; index < route.size(); ++index) {
+      if (seed != 0) detector.SetWriterHeld(random() % 3 != 0);
+      run.results.push_back(detector.Process(route.Render(index), index));
+    }
+    detector.Close();
+  }
+  run.map = MapContent(dir.File("map.db"));
+  return run;
+}
+
+// Determinism as a property: with T_time off, the writer's timing changes nothing, neither the
+// results nor the map file.
+class DeterminismTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(DeterminismTest, WriterTimingChangesNothing) {
+  const SyntheticRoute route(ShortRoute());
+  Options options;
+  options.memory.time_limit_ms = 0;
+  options.memory.max_wm_locations = GetParam();
+  const RouteRun free_writer = RunWithWriterHeld(route, options, 0);
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const RouteRun held = RunWithWriterHeld(route, options, seed);
+    ASSERT_EQ(held.results.size(), free_writer.results.size());
+    for (size_t i = 0; i < held.results.size(); ++i) {
+      const Result& a = free_writer.results[i];
+      const Result& b = held.results[i];
+      ASSERT_EQ(a.hypothesis_id, b.hypothesis_id) << "image " << i << ", seed " << seed;
+      ASSERT_EQ(a.hypothesis_value, b.hypothesis_value) << "image " << i << ", seed " << seed;
+      ASSERT_EQ(a.loop_closure_id, b.loop_closure_id) << "image " << i;
+      ASSERT_EQ(a.retrieved_ids, b.retrieved_ids) << "image " << i;
+      ASSERT_EQ(a.transferred_ids, b.transferred_ids) << "image " << i;
+      ASSERT_EQ(a.dictionary_size, b.dictionary_size) << "image " << i;
+    }
+    EXPECT_EQ(held.map, free_writer.map) << "seed " << seed;
+    EXPECT_EQ(held.map.find("(missing)"), std::string::npos);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(WmBudgets, DeterminismTest, ::testing::Values(20, 30));
+
+// Small budgets move locations back and forth between WM and LTM all the time: the map's
+// invariants hold after every image, for every budget and every feature backend.
+TEST(ConsistencyTest, HoldsAfterEveryImageUnderSmallBudgets) {
+  const SyntheticRoute route;
+  for (int budget : {20, 30, 45}) {
+    Options options;
+    options.memory.time_limit_ms = 0;
+    options.memory.max_wm_locations = budget;
+    RunRoute(route, options);
+  }
+}
+
+TEST(ConsistencyTest, HoldsAfterEveryImageForEveryBackend) {
+  const SyntheticRoute route(ShortRoute());
+  for (const char* backend : {"surf", "sift", "orb"}) {
+    SCOPED_TRACE(backend);
+    Options options;
+    options.features.type = backend;
+    options.memory.time_limit_ms = 0;
+    options.memory.max_wm_locations = 20;
+    RunRoute(route, options);
+  }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "memloop/options.h"
 #include "memloop/result.h"
@@ -34,6 +35,15 @@ class Detector {
 
   // Waits until everything transferred so far is committed to the database.
   void Flush();
+  // Verifies the map's invariants and returns what is wrong (empty: consistent): every link is
+  // symmetric and points to a location in memory or LTM; every word of an STM/WM location is in
+  // the dictionary with the right reference count; every word of an LTM location is stored in
+  // LTM or kept in the dictionary for LTM; the filter's states are exactly WM and sum to 1.
+  // Reads every LTM location: for tests and debugging, not for every image of a long run.
+  std::vector<std::string> CheckConsistency();
+  // For tests: holds the LTM writer back (it then commits only when the detector must wait for
+  // it). Results must not depend on it; the determinism tests use it.
+  void SetWriterHeld(bool held);
   // Stores the STM and WM locations too and commits, so the file holds the whole map. Process()
   // may not be called afterwards. The destructor calls it, but cannot report a failure.
   void Close();
