@@ -128,7 +128,8 @@ class Detector::Impl {
 
   Likelihood ComputeObservation(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    return ComputeLikelihood(ScoreWorkingMemory(memory_.at(t).signature, memory_));
+    return ComputeLikelihood(ScoreWorkingMemory(memory_.at(t).signature, memory_),
+                             options_.filter.min_sigma_ratio);
   }
 
   Neighbourhoods UpdateFilter(const Likelihood& likelihood, Result& result) {

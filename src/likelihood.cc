@@ -1,5 +1,6 @@
 #include "likelihood.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -22,7 +23,7 @@ std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memo
   return scores;
 }
 
-Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores) {
+Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores, double min_sigma_ratio) {
   Likelihood likelihood;
   likelihood.scores = scores;
   double sum = 0;
@@ -42,12 +43,16 @@ Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores) {
     likelihood.stddev = std::sqrt(squares / non_null);
   }
   const double mu = likelihood.mean;
-  const double sigma = likelihood.stddev;
+  // With one non-null score sigma says nothing (not a tie): only an estimable sigma is floored.
+  const double sigma =
+      non_null >= 2 ? std::max(likelihood.stddev, min_sigma_ratio * mu) : likelihood.stddev;
   for (const auto& [id, score] : scores) {
     // Eq. 3. A non-null score with sigma = 0 equals mu, so (s - sigma) / mu = 1 too.
     likelihood.values[id] = (score > 0 && score >= mu + sigma) ? (score - sigma) / mu : 1.0;
   }
-  likelihood.virtual_place = (sigma > 0 ? mu / sigma : 1.0) + 1.0;  // eq. 4
+  // Eq. 4; mu/sigma is taken as 1 where sigma cannot be estimated (fewer than 2 non-null scores)
+  // or, as written (ratio 0), is 0.
+  likelihood.virtual_place = (sigma > 0 ? mu / sigma : 1.0) + 1.0;
   return likelihood;
 }
 

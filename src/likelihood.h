@@ -20,8 +20,14 @@ struct Likelihood {
 // with z_t score 0 without being visited).
 std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory);
 
-// Eq. 3 and 4 from the scores. With no non-null score, or sigma = 0, mu/sigma is taken as 1
-// (the paper leaves 0/0 open), so the virtual place's likelihood is 2.
-Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores);
+// Eq. 3 and 4 from the scores. Eq. 4, mu/sigma + 1, grows without bound as sigma -> 0 and is
+// undefined at 0. With `min_sigma_ratio` > 0 and at least 2 non-null scores, sigma is taken as
+// at least min_sigma_ratio * mu in eq. 3 and 4, so the virtual place's likelihood is continuous
+// in the scores and at most 1/min_sigma_ratio + 1 (all scores tied: no location stands out).
+// With fewer than 2 non-null scores sigma cannot be estimated and mu/sigma is taken as 1 (the
+// virtual place's likelihood is 2). With ratio 0 (the paper as written, RTAB-Map's convention),
+// sigma = 0 gives 2 and near ties give anything up to infinity.
+Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores,
+                             double min_sigma_ratio = 0);
 
 }  // namespace memloop

@@ -27,6 +27,28 @@ TEST(LikelihoodTest, NoSimilarLocationMakesTheVirtualPlaceLikely) {
   EXPECT_EQ(likelihood.virtual_place, 2.0);
 }
 
+// Eq. 4 as written jumps at sigma = 0: a tie gives 2, a near tie thousands.
+TEST(LikelihoodTest, AsWrittenEquation4JumpsAtSigmaZero) {
+  EXPECT_EQ(ComputeLikelihood({{1, 0.5}, {2, 0.5}}, 0).virtual_place, 2.0);
+  // mu = 0.5001, sigma = 0.0001: 0.5001 / 0.0001 + 1 = 5002.
+  EXPECT_NEAR(ComputeLikelihood({{1, 0.5}, {2, 0.5002}}, 0).virtual_place, 5002, 1e-6);
+}
+
+// With sigma floored at 0.1 mu, ties and near ties agree: sigma = 0.05 (tie) or 0.05001 (near
+// tie), so mu/sigma + 1 = 11 in both; eq. 3 gives 1 to both locations (s < mu + sigma).
+TEST(LikelihoodTest, FlooredSigmaMakesEquation4Continuous) {
+  const Likelihood tie = ComputeLikelihood({{1, 0.5}, {2, 0.5}}, 0.1);
+  const Likelihood near_tie = ComputeLikelihood({{1, 0.5}, {2, 0.5002}}, 0.1);
+  EXPECT_NEAR(tie.virtual_place, 11, 1e-12);
+  EXPECT_NEAR(near_tie.virtual_place, 11, 1e-12);
+  EXPECT_EQ(near_tie.values.at(2), 1.0);
+  // Far from a tie the floor changes nothing: mu = 0.3, sigma = 0.1633 > 0.03 (first test).
+  const Likelihood spread = ComputeLikelihood({{1, 0.1}, {2, 0.5}, {3, 0.0}, {4, 0.3}}, 0.1);
+  EXPECT_NEAR(spread.virtual_place, 0.3 / 0.16329931618554522 + 1, 1e-12);
+  // One non-null score: sigma cannot be estimated, mu/sigma is taken as 1.
+  EXPECT_EQ(ComputeLikelihood({{1, 0.4}, {2, 0.0}}, 0.1).virtual_place, 2.0);
+}
+
 TEST(LikelihoodTest, ScoresOfWorkingMemoryAreEquation1) {
   Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   const auto ids = testing::AddChain(memory, {{1, 2, 3}, {3, 4}, {5, 6, 7, 8}, {1, 3, 4, 9}});

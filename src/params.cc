@@ -71,7 +71,7 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Binary descriptors (orb): bits per LSH hash key"),
     Param("dictionary.lsh_probe_level", MEMLOOP_FIELD(dictionary.lsh_probe_level)).Range(0, 4)
         .Help("Binary descriptors (orb): neighbouring LSH buckets probed (multi-probe level)"),
-    Param("memory.stm_size", MEMLOOP_FIELD(memory.stm_size)).Unit("locations").Range(0, 100000)
+    Param("memory.stm_size", MEMLOOP_FIELD(memory.stm_size)).Unit("locations").Range(1, 100000)
         .Symbol("STM size").Help("Newest locations kept out of loop closure detection"),
     Param("memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold)).Range(0, 1)
         .Symbol("T_rehearsal (eq. 1)").Help("Similarity above which the compared STM location is merged"),
@@ -94,6 +94,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Transition and hypothesis sum reach this many links from a location"),
     Param("filter.neighbour_sigma", MEMLOOP_FIELD(filter.neighbour_sigma)).Unit("links")
         .AboveRange(0, 100).Help("Standard deviation of the transition model's discretized Gaussian"),
+    Param("filter.min_sigma_ratio", MEMLOOP_FIELD(filter.min_sigma_ratio)).Range(0, 10)
+        .Symbol("eq. 3-4").Help("sigma is at least this fraction of mu, so mu/sigma+1 stays continuous and at most 1/ratio+1 (0 = as written: sigma=0 gives 2)"),
   };
 }
 // clang-format on

@@ -49,7 +49,9 @@ TEST(ParamsTest, SetStoresTheValue) {
 
 TEST(ParamsTest, BadAssignmentsAreRefusedWithTheReason) {
   EXPECT_EQ(ErrorOf("memory.stm_size=-1"),
-            "Invalid parameter memory.stm_size = '-1': must be in [0, 100000]");
+            "Invalid parameter memory.stm_size = '-1': must be in [1, 100000]");
+  // STM 0 would put L_t in WM before it is scored: it would match itself.
+  EXPECT_NE(ErrorOf("memory.stm_size=0").find("must be in [1, 100000]"), std::string::npos);
   EXPECT_NE(ErrorOf("filter.loop_threshold=1.5").find("must be in [0, 1]"), std::string::npos);
   EXPECT_NE(ErrorOf("dictionary.nndr_ratio=0").find("must be in (0, 1]"), std::string::npos);
   EXPECT_NE(ErrorOf("memory.stm_size=2.5").find("not a whole number"), std::string::npos);
