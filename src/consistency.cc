@@ -121,8 +121,8 @@ void CheckLtmLocation(LocationId id, const Memory& memory, LongTermMemory& ltm,
 
 void CheckFilter(const Memory& memory, const BayesFilter& filter, Problems& problems) {
   for (const auto& [id, probability] : filter.posterior()) {
-    if (!memory.InWorkingMemory(id)) problems.Add("the filter has a state for " + Name(id) +
-                                                  ", which is not in WM");
+    if (!memory.InWorkingMemory(id))
+      problems.Add("the filter has a state for " + Name(id) + ", which is not in WM");
     if (!(probability >= 0 && probability <= 1)) {
       problems.Add("p(S_t = " + std::to_string(id) + ") = " + std::to_string(probability));
     }
@@ -154,8 +154,8 @@ std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& 
     CheckLtmLocation(id, memory, ltm, problems);
   }
   for (const PastMatch& match : past_matches) {
-    if (match.matched == match.matcher) problems.Add("a past match of " + Name(match.matched) +
-                                                     " with itself");
+    if (match.matched == match.matcher)
+      problems.Add("a past match of " + Name(match.matched) + " with itself");
   }
   return problems.Take();
 }

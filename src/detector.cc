@@ -4,9 +4,9 @@
 #include <set>
 
 #include "bayes_filter.h"
+#include "consistency.h"
 #include "hypothesis.h"
 #include "likelihood.h"
-#include "consistency.h"
 #include "long_term_memory.h"
 #include "map_editor.h"
 #include "memloop/errors.h"
@@ -63,7 +63,7 @@ class Detector::Impl {
   // The paper's Fig. 1, one call per box.
   Result Process(const cv::Mat& image, ImageIndex image_index) {
     if (closed_) throw Error("Detector::Process called after Close()");
-    ltm_.CheckWriter();  // a map that no longer follows memory stops the run here
+    ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
     Stopwatch iteration;
     Result result;

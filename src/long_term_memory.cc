@@ -26,7 +26,8 @@ void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
 }
 
 size_t BytesOf(const Location& location) {
-  return sizeof(Location) + location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
+  return sizeof(Location) +
+         location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
          (location.neighbours.size() + location.loop_closures.size()) * 48 +
          location.images.size() * sizeof(ImageIndex);
 }
@@ -277,9 +278,8 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
       std::deque<Queued> batch;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_writer_.wait(lock, [this] {
-          return stopping_ || (!queue_.empty() && (!held_ || waiting_ > 0));
-        });
+        wake_writer_.wait(
+            lock, [this] { return stopping_ || (!queue_.empty() && (!held_ || waiting_ > 0)); });
         if (queue_.empty() && stopping_) return;
         batch.swap(queue_);
       }

@@ -74,7 +74,8 @@ TEST_F(MapEditorTest, ConsistencyCheckFindsAOneWayLink) {
       CheckConsistency(map_.memory, map_.ltm, map_.filter, map_.editor.past_matches());
   ASSERT_FALSE(problems.empty());
   bool found = false;
-  for (const auto& line : problems) found |= line.find("one-way loop-closure link") != std::string::npos;
+  for (const auto& line : problems)
+    found |= line.find("one-way loop-closure link") != std::string::npos;
   EXPECT_TRUE(found);
 }
 

@@ -1,5 +1,7 @@
 #include "memloop/run_csv.h"
 
+#include <cerrno>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -32,6 +34,8 @@ RunCsvWriter::RunCsvWriter(const std::string& path) : path_(path), out_(path) {
           "iteration_ms,"
           "signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
           "transfer_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred\n";
+  out_.flush();
+  if (!out_) throw InputError(path, "writing the results failed (disk full?)");
 }
 
 void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
@@ -51,10 +55,26 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
        << ',' << t.transfer_ms << ',' << result.stm_size << ',' << result.wm_size << ','
        << result.ltm_size << ',' << result.dictionary_size << ',' << Join(result.retrieved_ids)
        << ',' << Join(result.transferred_ids) << '\n';
-  if (!out_) throw InputError(path_, "writing the results failed");
+  out_.flush();
+  if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
+}
+
+void RunCsvWriter::Close() {
+  if (!out_.is_open()) return;
+  out_.close();
+  if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
 }
 
 namespace {
+
+constexpr double kMaxRunImages = 10'000'000;  // images of one run, at most
+constexpr double kMaxId = 2'147'483'647;
+
+std::string Format(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
 
 // Splits one CSV line; fields may be quoted ("a,b" and "" for a quote inside).
 std::vector<std::string> SplitCsvLine(const std::string& line) {
@@ -103,42 +123,78 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
                                  std::to_string(header.size()));
     }
     const auto text = [&](const char* name) { return fields[column.at(name)]; };
-    const auto number_of = [&](const char* name) {
+    const auto fail = [&](const char* name, const std::string& problem) {
+      return InputError(path, "line " + std::to_string(number) + ": " + name + " '" + text(name) +
+                                  "' " + problem);
+    };
+    const auto real_of = [&](const char* name, double min, double max) {
       const std::string& field = text(name);
       char* end = nullptr;
       const double value = std::strtod(field.c_str(), &end);
-      if (field.empty() || end != field.c_str() + field.size()) {
-        throw InputError(path, "line " + std::to_string(number) + ": " + name + " '" + field +
-                                   "' is not a number");
+      if (field.empty() || end != field.c_str() + field.size() || !std::isfinite(value)) {
+        throw fail(name, "is not a number");
+      }
+      if (value < min || value > max) {
+        throw fail(name, "is out of range [" + Format(min) + ", " + Format(max) + "]");
       }
       return value;
+    };
+    const auto whole = [&](const char* name, const std::string& field, double max) {
+      char* end = nullptr;
+      errno = 0;
+      const long long value = std::strtoll(field.c_str(), &end, 10);
+      if (field.empty() || end != field.c_str() + field.size() || errno == ERANGE) {
+        throw fail(name, "is not a whole number");
+      }
+      if (value < 0 || value > max) throw fail(name, "is out of range [0, " + Format(max) + "]");
+      return value;
+    };
+    const auto integer_of = [&](const char* name, double max) {
+      return whole(name, text(name), max);
     };
     const auto list_of = [&](const char* name) {
       std::vector<ImageIndex> values;
       std::stringstream list(text(name));
       for (std::string item; std::getline(list, item, ';');) {
-        char* end = nullptr;
-        const long value = std::strtol(item.c_str(), &end, 10);
-        if (item.empty() || end != item.c_str() + item.size()) {
-          throw InputError(path, "line " + std::to_string(number) + ": " + name + " '" +
-                                     text(name) + "' is not a list of images");
-        }
-        values.push_back(static_cast<ImageIndex>(value));
+        values.push_back(static_cast<ImageIndex>(whole(name, item, kMaxRunImages - 1)));
       }
       return values;
     };
     RunRow row;
-    row.image = static_cast<ImageIndex>(number_of("image"));
+    row.image = static_cast<ImageIndex>(integer_of("image", kMaxRunImages - 1));
+    if (!rows.empty() && row.image <= rows.back().image) {
+      throw fail("image", "does not follow image " + std::to_string(rows.back().image) +
+                              " (a run's images are in increasing order, each once)");
+    }
     row.name = text("name");
-    row.location_id = static_cast<LocationId>(number_of("location_id"));
+    row.location_id = static_cast<LocationId>(integer_of("location_id", kMaxId));
     row.matched_images = list_of("matched_images");
-    row.hypothesis_id = static_cast<LocationId>(number_of("hypothesis_id"));
-    row.hypothesis_value = number_of("hypothesis_value");
+    row.hypothesis_id = static_cast<LocationId>(integer_of("hypothesis_id", kMaxId));
+    row.hypothesis_value = real_of("hypothesis_value", 0, 1);
     row.hypothesis_images = list_of("hypothesis_images");
-    row.iteration_ms = number_of("iteration_ms");
-    row.wm_size = static_cast<int>(number_of("wm_size"));
-    row.dictionary_size = static_cast<int>(number_of("dictionary_size"));
+    row.iteration_ms = real_of("iteration_ms", 0, 1e12);
+    row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
+    row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));
     rows.push_back(std::move(row));
+  }
+  // Images are indexed by their position in the input, skipped (unreadable) ones included: a run
+  // that names an image far beyond its rows is not memloop's (and would size the ground truth).
+  if (!rows.empty() && rows.back().image >= 2 * static_cast<ImageIndex>(rows.size()) + 16) {
+    throw InputError(path, "image " + std::to_string(rows.back().image) +
+                               " (last line) is beyond "
+                               "what a run of " +
+                               std::to_string(rows.size()) +
+                               " rows can name (more images skipped than processed)");
+  }
+  for (const RunRow& row : rows) {
+    for (const auto* list : {&row.matched_images, &row.hypothesis_images}) {
+      for (ImageIndex image : *list) {
+        if (image >= row.image) {
+          throw InputError(path, "image " + std::to_string(row.image) + " names image " +
+                                     std::to_string(image) + " as a match: not one seen before");
+        }
+      }
+    }
   }
   if (rows.empty()) throw InputError(path, "holds no image row");
   return rows;

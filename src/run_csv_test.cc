@@ -66,7 +66,7 @@ TEST(RunCsvTest, NotARunOrMalformedIsRefused) {
   expect_error(header + "\n", "holds no image row");
   expect_error(header + "\n1,2\n", "line 2 has 2 fields");
   std::string row(std::count(header.begin(), header.end(), ','), ',');
-  expect_error(header + "\nseven" + row + "\n", "line 2: image 'seven' is not a number");
+  expect_error(header + "\nseven" + row + "\n", "line 2: image 'seven' is not a whole number");
   EXPECT_THROW(ReadRunCsv(dir.File("absent.csv")), InputError);
 }
 

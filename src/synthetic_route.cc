@@ -158,6 +158,7 @@ void SyntheticRoute::Write(const std::string& folder) const {
   for (const auto& [query, match] : GroundTruthPairs()) {
     csv << query + 1 << ".png," << match + 1 << ".png\n";
   }
+  csv.close();  // the last buffer's write is checked too
   if (!csv) throw InputError(csv_path, "cannot write the ground truth");
 }
 

@@ -173,6 +173,92 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
   }
 }
 
+// Replaces field `field` of data line `row` (1 = first image) of a run CSV; row 0: every row.
+std::string WithField(const std::string& csv, int row, int field, const std::string& value) {
+  std::istringstream in(csv);
+  std::string out;
+  int number = 0;
+  for (std::string line; std::getline(in, line); ++number) {
+    if (number > 0 && (row == 0 || number == row)) {
+      std::vector<std::string> fields;
+      std::stringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+      if (line.back() == ',') fields.emplace_back();
+      fields[field] = value;
+      line.clear();
+      for (size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + fields[i];
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+TEST_F(CliTest, EvalRefusesMalformedRunCsvsWithOneLine) {
+  const std::string csv_path = dir_.File("good.csv");
+  ASSERT_EQ(
+      Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv_path).exit_code, 0);
+  ASSERT_EQ(Memloop("generate " + dir_.File("new/route")).exit_code, 0);  // creates the folder
+  EXPECT_TRUE(std::filesystem::exists(dir_.File("new/route/ground_truth_pairs.csv")));
+  const std::string truth = folder_->File("ground_truth_pairs.csv");
+  ASSERT_EQ(Memloop("eval " + csv_path + " " + truth).exit_code, 0);
+  const std::string good = ReadFile(csv_path);
+  const int last_row = static_cast<int>(std::count(good.begin(), good.end(), '\n')) - 1;
+  // Columns: 0 image, 5 matched_images, 7 hypothesis_value.
+  struct Case {
+    std::string csv;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {WithField(good, 3, 0, "-3"), "line 4: image '-3' is out of range"},
+      {WithField(good, 0, 0, "-5"), "line 2: image '-5' is out of range"},
+      {WithField(good, 3, 0, "nan"), "line 4: image 'nan' is not a whole number"},
+      {WithField(good, 3, 0, "1.5"), "line 4: image '1.5' is not a whole number"},
+      {WithField(good, 3, 0, "1"), "line 4: image '1' does not follow image 1"},
+      {WithField(good, 3, 7, "nan"), "line 4: hypothesis_value 'nan' is not a number"},
+      {WithField(good, 3, 7, "1.5"), "line 4: hypothesis_value '1.5' is out of range"},
+      {WithField(good, 60, 5, "-2"), "line 61: matched_images '-2' is out of range"},
+      {WithField(good, last_row, 0, "30000"), "image 30000 (last line) is beyond"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir_.File("bad.csv")) << c.csv;
+    const Outcome outcome = Memloop("eval " + dir_.File("bad.csv") + " " + truth);
+    EXPECT_EQ(outcome.exit_code, 1) << c.message;
+    EXPECT_TRUE(
+        Contains(outcome.output, "memloop: error: " + dir_.File("bad.csv") + ": " + c.message))
+        << outcome.output;
+    EXPECT_EQ(std::count(outcome.output.begin(), outcome.output.end(), '\n'), 1) << outcome.output;
+  }
+  // A 16-bit ground-truth image is refused, not read as labels.
+  cv::Mat wide(60, 60, CV_16U, cv::Scalar(255));
+  cv::imwrite(dir_.File("truth16.png"), wide);
+  const Outcome wide_truth = Memloop("eval " + csv_path + " " + dir_.File("truth16.png"));
+  EXPECT_EQ(wide_truth.exit_code, 1);
+  EXPECT_TRUE(Contains(wide_truth.output, "must be 8-bit grayscale")) << wide_truth.output;
+  // report: a negative or non-finite T_time is a usage error (exit 2).
+  for (const char* bad : {"-5", "nan"}) {
+    const Outcome report = Memloop("report " + csv_path + " " + truth + " --time-limit-ms " + bad +
+                                   " --out " + dir_.File("r.html"));
+    EXPECT_EQ(report.exit_code, 2) << bad << report.output;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("r.html")));
+  }
+}
+
+// /dev/full fails every write with ENOSPC, as a full disk does.
+TEST_F(CliTest, FullDiskIsAnErrorNamingTheFile) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const Outcome run = Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out /dev/full");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_TRUE(Contains(run.output, "memloop: error: /dev/full: writing the results failed"))
+      << run.output;
+  const std::string csv = dir_.File("full.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
+  const Outcome report =
+      Memloop("report " + csv + " " + folder_->File("ground_truth_pairs.csv") + " --out /dev/full");
+  EXPECT_EQ(report.exit_code, 1) << report.output;
+  EXPECT_TRUE(Contains(report.output, "memloop: error: /dev/full: cannot write the report"))
+      << report.output;
+}
+
 TEST_F(CliTest, ForeignOrExistingDatabasesAreRefusedAndKept) {
   const std::string notes = dir_.File("notes.db");
   std::ofstream(notes) << "my notes";

@@ -75,9 +75,9 @@ struct FilterOptions {
   // Standard deviation, in links, of the discretized Gaussian of the transition model.
   double neighbour_sigma = 1.6;
   // Eq. 3-4: sigma is taken as at least this fraction of mu, so that p(L_t | S_t = -1) =
-  // mu/sigma + 1 is continuous as sigma -> 0 (at most 1/ratio + 1). 0: the paper as written
+  // mu/sigma + 1 is continuous as sigma -> 0 (at most 1/ratio + 1 = 51). 0: the paper as written
   // (sigma = 0 gives 2, near ties give any value). docs/design.md has the measurements.
-  double min_sigma_ratio = 0.1;
+  double min_sigma_ratio = 0.02;
 };
 
 struct Options {

@@ -14,7 +14,11 @@ class RunCsvWriter {
  public:
   // Throws InputError when `path` cannot be written.
   explicit RunCsvWriter(const std::string& path);
+  // Writes and flushes one row, so that a killed run leaves whole rows. Throws InputError when
+  // the write fails (a full disk).
   void Write(const std::string& image_name, const Result& result);
+  // Closes the file, checking that its last bytes were written.
+  void Close();
 
  private:
   std::string path_;
@@ -36,7 +40,10 @@ struct RunRow {
 };
 
 // Reads a CSV written by RunCsvWriter. Throws InputError naming the file and, for a malformed
-// row, its line: unreadable, not a memloop run (a column missing), a field that is not a number.
+// row, its line: unreadable, not a memloop run (a column missing), a field that is not a number,
+// not a whole number where one is needed, out of range (negative, non-finite, a hypothesis outside
+// [0, 1]), images not in increasing order, a match that is not an earlier image, or an image
+// index far beyond the run's rows.
 std::vector<RunRow> ReadRunCsv(const std::string& path);
 
 }  // namespace memloop

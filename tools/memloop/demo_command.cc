@@ -74,9 +74,8 @@ void AddDemoCommand(CLI::App& app) {
 
   CLI::App* generate = app.add_subcommand(
       "generate", "Write the synthetic route as images/1.png..N.png with ground_truth_pairs.csv");
-  generate->add_option("folder", arguments->folder, "Existing folder to write into")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  generate->add_option("folder", arguments->folder, "Folder to write into (created if missing)")
+      ->required();
   generate->add_option("--seed", arguments->seed, "Seed of the generated world")
       ->capture_default_str();
   generate->callback([arguments] {

@@ -1,5 +1,6 @@
 // memloop eval RUN.csv GROUND_TRUTH [--format auto|mat|image|pairs|matrix] [--json]
 // memloop report RUN.csv GROUND_TRUTH [--format ...] [--out report.html] [--time-limit-ms T]
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -107,8 +108,16 @@ void AddReportCommand(CLI::App& app) {
   report->add_option("--format", arguments->format, "auto, mat, image, pairs or matrix")
       ->capture_default_str();
   report->add_option("--out", arguments->out, "HTML file to write")->capture_default_str();
-  report->add_option("--time-limit-ms", arguments->time_limit_ms,
-                     "T_time of the run, drawn on the time figure (0: none)");
+  report
+      ->add_option("--time-limit-ms", arguments->time_limit_ms,
+                   "T_time of the run, drawn on the time figure (0: none)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            const double value = std::strtod(text.c_str(), nullptr);
+            return std::isfinite(value) && value >= 0 ? std::string()
+                                                      : "must be a finite number >= 0";
+          },
+          "MS>=0"));
   report->callback([arguments] {
     const Evaluated evaluated =
         Evaluate(arguments->run, arguments->ground_truth, arguments->format);
@@ -119,7 +128,8 @@ void AddReportCommand(CLI::App& app) {
         MakeReport(evaluated.rows, evaluated.truth, evaluated.evaluation, options);
     std::ofstream out(arguments->out);
     out << page;
-    if (!out) throw InputError(arguments->out, "cannot write the report");
+    out.close();  // checks the last buffer's write too
+    if (!out) throw InputError(arguments->out, "cannot write the report (disk full?)");
     std::cout << "wrote " << arguments->out << "\n";
   });
 }

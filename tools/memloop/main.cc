@@ -1,6 +1,6 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
-// Subcommands: run, demo, generate, eval, report, params. Errors print "memloop: error: ..." and
-// exit 1.
+// Subcommands: run, demo, generate, eval, report, params. Exit codes: 0 success; 1 an error of
+// input, map or output ("memloop: error: ..." names the file); 2 a command-line usage error.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    const int code = app.exit(error);  // prints help, or the usage error
+    return code == 0 ? 0 : 2;
   } catch (const std::exception& error) {
     std::cerr << "memloop: error: " << error.what() << "\n";
     return 1;

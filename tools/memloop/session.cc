@@ -65,6 +65,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     progress.Update(frame.index + 1, loop_closures);
   }
   detector.Close();
+  if (csv) csv->Close();
   return report;
 }
 
