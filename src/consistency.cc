@@ -36,13 +36,14 @@ void CheckLinks(const Location& location, const Memory& memory, LongTermMemory& 
         problems.Add(Name(location.id) + " has a " + type + " to itself");
         continue;
       }
-      std::optional<Location> far;
+      std::optional<Location> from_ltm;
+      const Location* far = nullptr;
       if (memory.Contains(other)) {
-        far = memory.at(other);
-      } else {
-        far = ltm.Peek(other);
+        far = &memory.at(other);
+      } else if ((from_ltm = ltm.Peek(other))) {
+        far = &*from_ltm;
       }
-      if (!far) {
+      if (far == nullptr) {
         problems.Add(Name(location.id) + " has a " + type + " to " + Name(other) +
                      ", which is neither in memory nor in LTM");
       } else if (!LinksOfType(*far, loop_closure).count(location.id)) {

@@ -172,6 +172,12 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
     row.hypothesis_id = static_cast<LocationId>(integer_of("hypothesis_id", kMaxId));
     row.hypothesis_value = real_of("hypothesis_value", 0, 1);
     row.hypothesis_images = list_of("hypothesis_images");
+    for (const auto& [name, images] : {std::pair{"matched_images", &row.matched_images},
+                                       std::pair{"hypothesis_images", &row.hypothesis_images}}) {
+      for (ImageIndex image : *images) {
+        if (image >= row.image) throw fail(name, "names an image not seen before this one");
+      }
+    }
     row.iteration_ms = real_of("iteration_ms", 0, 1e12);
     row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
     row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));
@@ -185,16 +191,6 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
                                "what a run of " +
                                std::to_string(rows.size()) +
                                " rows can name (more images skipped than processed)");
-  }
-  for (const RunRow& row : rows) {
-    for (const auto* list : {&row.matched_images, &row.hypothesis_images}) {
-      for (ImageIndex image : *list) {
-        if (image >= row.image) {
-          throw InputError(path, "image " + std::to_string(row.image) + " names image " +
-                                     std::to_string(image) + " as a match: not one seen before");
-        }
-      }
-    }
   }
   if (rows.empty()) throw InputError(path, "holds no image row");
   return rows;

@@ -38,7 +38,7 @@ class Detector {
   // Verifies the map's invariants and returns what is wrong (empty: consistent): every link is
   // symmetric and points to a location in memory or LTM; every word of an STM/WM location is in
   // the dictionary with the right reference count; every word of an LTM location is stored in
-  // LTM or kept in the dictionary for LTM; the filter's states are exactly WM and sum to 1.
+  // LTM or kept in the dictionary for LTM; the filter's states are exactly WM, each in [0, 1].
   // Reads every LTM location: for tests and debugging, not for every image of a long run.
   std::vector<std::string> CheckConsistency();
   // For tests: holds the LTM writer back (it then commits only when the detector must wait for
