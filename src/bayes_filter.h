@@ -35,6 +35,11 @@ class BayesFilter {
   double virtual_place() const { return virtual_place_; }
   // A location that entered WM after the update (retrieved) starts with probability 0.
   void Add(LocationId id) { posterior_.emplace(id, 0.0); }
+  // Resuming a map: the posterior as it was.
+  void Reload(std::map<LocationId, double> posterior, double virtual_place) {
+    posterior_ = std::move(posterior);
+    virtual_place_ = virtual_place;
+  }
   // Forget a location that left WM.
   void Remove(LocationId id) { posterior_.erase(id); }
 

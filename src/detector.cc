@@ -4,6 +4,7 @@
 #include <set>
 
 #include "bayes_filter.h"
+#include "checkpoint.h"
 #include "consistency.h"
 #include "hypothesis.h"
 #include "likelihood.h"
@@ -44,17 +45,59 @@ const Options& Validated(const Options& options) {
   return options;
 }
 
+Options OptionsOf(LtmDatabase& database) {
+  Options options;
+  for (const Parameter& parameter : Parameters()) {
+    const std::string value = database.ReadInfo("param." + parameter.key);
+    if (value.empty()) continue;  // a parameter newer than the map: its default
+    try {
+      parameter.Set(options, value);
+    } catch (const Error& error) {
+      throw DatabaseError(database.path(),
+                          std::string("its parameter table is damaged (") + error.what() + ")");
+    }
+  }
+  return options;
+}
+
+// Resuming with other values of the parameters that define the map is refused, naming each.
+void CheckMapParameters(LtmDatabase& database, const Options& options) {
+  const Options map_options = OptionsOf(database);
+  std::string differences;
+  for (const Parameter& parameter : Parameters()) {
+    if (!parameter.DefinesMap()) continue;
+    const std::string map_value = parameter.Get(map_options);
+    const std::string value = parameter.Get(options);
+    if (map_value == value) continue;
+    differences += (differences.empty() ? "" : ", ") + parameter.key + " (map: " + map_value +
+                   ", given: " + value + ")";
+  }
+  if (!differences.empty()) {
+    throw ParameterError("", database.path() +
+                                 ": cannot resume with other values of parameters "
+                                 "that define the map: " +
+                                 differences);
+  }
+}
+
 }  // namespace
+
+Options ReadMapOptions(const std::string& path) {
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  return OptionsOf(database);
+}
 
 class Detector::Impl {
  public:
-  Impl(const Options& options, const std::string& database_path)
+  Impl(const Options& options, const std::string& database_path, MapMode mode)
       : options_(Validated(options)),
         extractor_(FeatureExtractor::Create(options.features)),
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), options.dictionary),
         filter_(options.filter),
-        ltm_(database_path),
+        ltm_(database_path,
+             mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate),
         editor_(memory_, ltm_, filter_) {
+    if (mode == MapMode::kResume) Resume(database_path);  // nothing is written before it passes
     for (const Parameter& parameter : Parameters()) {
       ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
     }
@@ -63,13 +106,55 @@ class Detector::Impl {
   // The paper's Fig. 1, one call per box.
   Result Process(const cv::Mat& image, ImageIndex image_index) {
     if (closed_) throw Error("Detector::Process called after Close()");
+    if (failed_) throw Error("Detector::Process called after a failed iteration");
     ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
+    try {
+      return Iterate(gray, image_index);
+    } catch (...) {
+      failed_ = true;  // memory is half-updated: the file stays at its last checkpoint
+      throw;
+    }
+  }
+
+  void Flush() {
+    if (!failed_ && !closed_) WriteCheckpoint();
+    ltm_.Flush();
+  }
+  ImageIndex last_image() const { return counters_.last_image; }
+  long long images_processed() const { return counters_.images_processed; }
+  void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
+  std::vector<std::string> CheckConsistency() {
+    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches());
+  }
+
+  // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map,
+  // and a checkpoint so that it can be resumed.
+  void Close() {
+    if (closed_) return;
+    closed_ = true;
+    if (failed_) return;
+    std::set<WordId> words;
+    for (const auto& [id, location] : memory_.locations()) {
+      ltm_.Store(location);
+      words.insert(location.signature.words.begin(), location.signature.words.end());
+    }
+    for (WordId word : words) ltm_.StoreWord(word, memory_.dictionary().Descriptor(word));
+    WriteCheckpoint();
+    ltm_.Flush();
+  }
+
+  const Options& options() const { return options_; }
+
+ private:
+  // The paper's Fig. 1, one call per box, then the resume checkpoint.
+  Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
     Stopwatch iteration;
     Result result;
     result.processed = true;
-    result.image_index = image_index == kNoImage ? images_processed_ : image_index;
-    ++images_processed_;
+    result.image_index = image_index == kNoImage ? counters_.images_processed : image_index;
+    ++counters_.images_processed;
+    counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
 
@@ -81,40 +166,59 @@ class Detector::Impl {
     const Hypothesis hypothesis = SelectLoopClosure(t, neighbourhoods, result);  // III-D
     RetrieveNeighbours(hypothesis, result);                                      // III-E
     TransferToLtm(iteration, result);                                            // III-F
+    Checkpoint(result);
     Summarize(t, iteration, result);
     return result;
   }
 
-  void Flush() { ltm_.Flush(); }
-  void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
-  std::vector<std::string> CheckConsistency() {
-    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches());
-  }
-
-  // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map.
-  void Close() {
-    if (closed_) return;
-    closed_ = true;
-    std::set<WordId> words;
-    for (const auto& [id, location] : memory_.locations()) {
-      ltm_.Store(location);
-      words.insert(location.signature.words.begin(), location.signature.words.end());
+  // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
+  // checking that the map was made with the same map-defining parameters.
+  void Resume(const std::string& path) {
+    LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+    CheckMapParameters(database, options_);
+    ResumeState state = ReadCheckpoint(database, memory_.dictionary());
+    try {
+      memory_.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
+                                  state.next_word_id);
+      memory_.Reload(std::move(state.locations), state.stm, state.next_location_id);
+    } catch (const DatabaseError&) {
+      throw;
+    } catch (const Error& error) {
+      throw DatabaseError(path,
+                          std::string("cannot resume: the map is damaged (") + error.what() + ")");
     }
-    for (WordId word : words) ltm_.StoreWord(word, memory_.dictionary().Descriptor(word));
-    ltm_.Flush();
+    for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
+    filter_.Reload(std::move(state.posterior), state.virtual_place);
+    editor_.SetPastMatches(std::move(state.past_matches));
+    counters_ = state.counters;
+    const std::vector<std::string> problems = CheckConsistency();
+    if (!problems.empty()) {
+      throw DatabaseError(
+          path, "cannot resume: the map is inconsistent (" + problems.front() +
+                    (problems.size() > 1
+                         ? ", and " + std::to_string(problems.size() - 1) + " more problems)"
+                         : ")"));
+    }
   }
 
-  const Options& options() const { return options_; }
+  void Checkpoint(Result& result) {
+    if (counters_.images_processed % options_.memory.checkpoint_interval != 0) return;
+    ScopedTimer timer(&result.times.checkpoint_ms);
+    WriteCheckpoint();
+  }
 
- private:
+  void WriteCheckpoint() {
+    ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_));
+  }
+
   LocationId CreateLocation(const cv::Mat& gray, Result& result) {
     ScopedTimer timer(&result.times.signature_ms);
     const Features features = extractor_->Extract(gray);
     int new_words = 0;
     Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
     const Location& location =
-        memory_.AddToStm(std::move(signature), result.image_index, newest_location_);
-    newest_location_ = location.id;
+        memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
+    counters_.newest_location = location.id;
     result.feature_count = static_cast<int>(features.keypoints.size());
     return location.id;
   }
@@ -213,15 +317,16 @@ class Detector::Impl {
   BayesFilter filter_;
   LongTermMemory ltm_;
   MapEditor editor_;
-  LocationId newest_location_ = kNoLocation;  // L_t-1 for the next image
-  ImageIndex images_processed_ = 0;
+  DetectorCounters counters_;
+  CheckpointWriter checkpoints_;
+  bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
   std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
   bool closed_ = false;
 };
 
-Detector::Detector(const Options& options, const std::string& database_path)
-    : impl_(std::make_unique<Impl>(options, database_path)) {}
+Detector::Detector(const Options& options, const std::string& database_path, MapMode mode)
+    : impl_(std::make_unique<Impl>(options, database_path, mode)) {}
 
 Detector::~Detector() {
   try {
@@ -236,6 +341,8 @@ Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
 }
 
 void Detector::Flush() { impl_->Flush(); }
+ImageIndex Detector::last_image() const { return impl_->last_image(); }
+long long Detector::images_processed() const { return impl_->images_processed(); }
 void Detector::SetWriterHeld(bool held) { impl_->SetWriterHeld(held); }
 std::vector<std::string> Detector::CheckConsistency() { return impl_->CheckConsistency(); }
 void Detector::Close() { impl_->Close(); }

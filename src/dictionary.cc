@@ -104,4 +104,33 @@ bool Dictionary::IsReferencedByLtm(WordId id) const {
   return found != words_.end() && found->second.referenced_by_ltm;
 }
 
+std::vector<WordId> Dictionary::IdsReferencedByLtm() const {
+  std::vector<WordId> ids;
+  for (const auto& [id, word] : words_) {
+    if (word.referenced_by_ltm) ids.push_back(id);
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+void Dictionary::Reload(const std::vector<WordId>& ids, const IndexHistory& history,
+                        const std::vector<WordId>& referenced_by_ltm, WordId next_word_id) {
+  index_->Replay(history, ids);
+  words_.clear();
+  for (WordId id : ids) {
+    if (id <= kNoWord || id >= next_word_id) {
+      throw Error("word " + std::to_string(id) + " is out of the dictionary's id range");
+    }
+    words_[id];
+  }
+  for (WordId id : referenced_by_ltm) {
+    const auto found = words_.find(id);
+    if (found == words_.end()) {
+      throw Error("word " + std::to_string(id) + " is marked for LTM but not in the dictionary");
+    }
+    found->second.referenced_by_ltm = true;
+  }
+  next_word_id_ = next_word_id;
+}
+
 }  // namespace memloop

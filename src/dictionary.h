@@ -58,6 +58,13 @@ class Dictionary {
   bool IsReferencedByLtm(WordId id) const;
 
   WordId next_word_id() const { return next_word_id_; }
+  // Every word marked referenced by LTM, sorted.
+  std::vector<WordId> IdsReferencedByLtm() const;
+
+  // Resuming a map: the words `ids` (no references yet: Memory::Reload adds them), the index as
+  // `history` left it, the LTM marks and the next id to give. Throws Error when they disagree.
+  void Reload(const std::vector<WordId>& ids, const IndexHistory& history,
+              const std::vector<WordId>& referenced_by_ltm, WordId next_word_id);
 
  private:
   struct Word {

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "flann_deterministic.h"
+#include "memloop/errors.h"
 #include "word_index.h"
 
 namespace memloop {
@@ -48,6 +49,7 @@ class FlannWordIndex : public WordIndex {
     flann::Matrix<Element> points(buffer.data(), ids.size(), dim());
     const size_t first_point = next_point_;  // FLANN names points in order, never reusing one
     next_point_ += ids.size();
+    batch_starts_.push_back(first_point);
     if (index_) {
       index_->addPoints(points, /*rebuild_threshold=*/1.0f);  // <= 1: never rebuild by itself
     } else {
@@ -56,6 +58,11 @@ class FlannWordIndex : public WordIndex {
     for (size_t i = 0; i < ids.size(); ++i) {
       point_of_word_[ids[i]] = first_point + i;
       word_of_point_[first_point + i] = ids[i];
+      point_words_.push_back(ids[i]);
+    }
+    if (first_point == 0) {  // this Add built the index
+      size_at_build_ = ids.size();
+      return;
     }
     changes_since_build_ += ids.size();
     if (changes_since_build_ > options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
@@ -80,6 +87,69 @@ class FlannWordIndex : public WordIndex {
     const Element* data = Point(id);
     if (data == nullptr) return {};
     return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(data)).clone();
+  }
+
+  IndexHistory History(size_t from_point) const override {
+    IndexHistory history;
+    history.build_count = build_count_;
+    history.size_at_build = size_at_build_;
+    history.changes_since_build = changes_since_build_;
+    history.batch_starts = batch_starts_;
+    history.point_count = next_point_;
+    history.first_point = std::min(from_point, next_point_);
+    history.point_words.assign(point_words_.begin() + history.first_point, point_words_.end());
+    history.descriptors.create(static_cast<int>(next_point_ - history.first_point), dim(),
+                               cv_type());
+    for (size_t point = history.first_point; point < next_point_; ++point) {
+      std::copy_n(index_->getPoint(point), dim(),
+                  history.descriptors.ptr<Element>(static_cast<int>(point - history.first_point)));
+    }
+    return history;
+  }
+
+  void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) override {
+    CheckHistory(history);
+    index_.reset();
+    buffers_.clear();
+    point_of_word_.clear();
+    word_of_point_.clear();
+    for (size_t batch = 0; batch < history.batch_starts.size(); ++batch) {
+      const size_t begin = history.batch_starts[batch];
+      const size_t end = batch + 1 < history.batch_starts.size() ? history.batch_starts[batch + 1]
+                                                                 : history.point_count;
+      buffers_.emplace_back((end - begin) * dim());
+      for (size_t point = begin; point < end; ++point) {
+        std::copy_n(history.descriptors.ptr<Element>(static_cast<int>(point)), dim(),
+                    buffers_.back().data() + (point - begin) * dim());
+      }
+      flann::Matrix<Element> points(buffers_.back().data(), end - begin, dim());
+      if (index_) {
+        index_->addPoints(points, /*rebuild_threshold=*/1.0f);
+      } else {
+        Build(points);
+      }
+    }
+    std::unordered_map<WordId, size_t> latest_point;
+    for (size_t point = 0; point < history.point_count; ++point) {
+      latest_point[history.point_words[point]] = point;
+    }
+    for (WordId word : live_words) {
+      const auto found = latest_point.find(word);
+      if (found == latest_point.end()) {
+        throw Error("word " + std::to_string(word) + " is not in the dictionary's index history");
+      }
+      point_of_word_[word] = found->second;
+      word_of_point_[found->second] = word;
+    }
+    for (size_t point = 0; point < history.point_count; ++point) {
+      if (!word_of_point_.count(point)) index_->removePoint(point);
+    }
+    point_words_ = history.point_words;
+    batch_starts_ = history.batch_starts;
+    next_point_ = history.point_count;
+    size_at_build_ = history.size_at_build;
+    changes_since_build_ = history.changes_since_build;
+    build_count_ = history.build_count;
   }
 
   std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const override {
@@ -113,6 +183,21 @@ class FlannWordIndex : public WordIndex {
     return found == point_of_word_.end() ? nullptr : index_->getPoint(found->second);
   }
 
+  void CheckHistory(const IndexHistory& history) const {
+    bool valid = history.first_point == 0 && history.point_words.size() == history.point_count &&
+                 static_cast<size_t>(history.descriptors.rows) == history.point_count &&
+                 (history.point_count == 0 ||
+                  (history.descriptors.type() == cv_type() && history.descriptors.cols == dim() &&
+                   history.descriptors.isContinuous())) &&
+                 (history.point_count == 0) == history.batch_starts.empty();
+    for (size_t batch = 0; valid && batch < history.batch_starts.size(); ++batch) {
+      const size_t start = history.batch_starts[batch];
+      valid = start < history.point_count &&
+              (batch == 0 ? start == 0 : start > history.batch_starts[batch - 1]);
+    }
+    if (!valid) throw Error("the dictionary's index history is inconsistent");
+  }
+
   void Build(const flann::Matrix<Element>& points) {
     flann::seed_random(options_.seed);
     index_ = std::make_unique<Index>(points, IndexParams(Distance(), options_));
@@ -137,7 +222,10 @@ class FlannWordIndex : public WordIndex {
     size_at_build_ = ids.size();
     next_point_ = ids.size();
     changes_since_build_ = 0;
+    point_words_ = ids;
+    batch_starts_.clear();
     if (ids.empty()) return;
+    batch_starts_.push_back(0);
     buffers_.push_back(std::move(buffer));
     Build(flann::Matrix<Element>(buffers_.back().data(), ids.size(), dim()));
     for (size_t i = 0; i < ids.size(); ++i) {
@@ -150,7 +238,9 @@ class FlannWordIndex : public WordIndex {
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   std::unordered_map<WordId, size_t> point_of_word_;
-  std::unordered_map<size_t, WordId> word_of_point_;
+  std::unordered_map<size_t, WordId> word_of_point_;  // live points only
+  std::vector<WordId> point_words_;                   // every point since the build (History)
+  std::vector<size_t> batch_starts_;                  // first point of each Add since the build
   size_t next_point_ = 0;
   size_t size_at_build_ = 0;
   size_t changes_since_build_ = 0;

@@ -18,6 +18,10 @@ class FolderSequence : public ImageSequence {
   FolderSequence(std::string folder, std::vector<std::string> names)
       : folder_(std::move(folder)), names_(std::move(names)) {}
 
+  void SkipTo(ImageIndex first) override {
+    next_ = std::max(next_, std::min(names_.size(), static_cast<size_t>(std::max(first, 0))));
+  }
+
   bool Next(Frame* frame) override {
     if (next_ >= names_.size()) return false;
     frame->index = static_cast<ImageIndex>(next_);

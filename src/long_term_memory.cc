@@ -37,6 +37,7 @@ size_t BytesOf(const Location& location) {
 LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
                                const LtmOptions& options)
     : path_(path), reader_(path, mode), max_pending_bytes_(options.max_pending_bytes) {
+  for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
   writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
@@ -70,27 +71,46 @@ void LongTermMemory::Overlay(long long sequence, const Operation& operation) {
   }
 }
 
+long long LongTermMemory::CommittableSequenceLocked() const {
+  return last_checkpoint_sequence_ > 0 ? last_checkpoint_sequence_ : next_sequence_ - 1;
+}
+
+size_t LongTermMemory::CommittableCountLocked() const {
+  const long long last = CommittableSequenceLocked();
+  if (queue_.empty() || last < queue_.front().sequence) return 0;
+  return static_cast<size_t>(last - queue_.front().sequence + 1);
+}
+
+template <typename Predicate>
+void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done) {
+  ++waiting_;
+  wake_writer_.notify_one();
+  committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
+  --waiting_;
+  ThrowIfFailedLocked();
+}
+
 void LongTermMemory::Enqueue(Operation operation) {
   size_t bytes = 64;
   if (const auto* store = std::get_if<StoreLocation>(&operation)) {
     bytes += BytesOf(store->location);
   } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
     bytes += word->descriptor.size();
+  } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
+    bytes += checkpoint->bytes();
   }
   {
     std::unique_lock<std::mutex> lock(mutex_);
     ThrowIfFailedLocked();
-    if (pending_bytes_ + bytes > max_pending_bytes_ && pending_bytes_ > 0) {
-      ++waiting_;
-      wake_writer_.notify_one();
-      committed_.wait(lock, [&] {
-        return pending_bytes_ + bytes <= max_pending_bytes_ || pending_bytes_ == 0 ||
-               !writer_failure_.empty();
-      });
-      --waiting_;
-      ThrowIfFailedLocked();
+    // Back-pressure: wait for the writer when it has something it may commit (with checkpoints,
+    // writes after the last one cannot be committed before the next).
+    const auto can_free = [&] { return CommittableSequenceLocked() > committed_sequence_; };
+    if (pending_bytes_ + bytes > max_pending_bytes_ && can_free()) {
+      WaitForWriterLocked(
+          lock, [&] { return pending_bytes_ + bytes <= max_pending_bytes_ || !can_free(); });
     }
     const long long sequence = next_sequence_++;
+    if (std::holds_alternative<CheckpointData>(operation)) last_checkpoint_sequence_ = sequence;
     Overlay(sequence, operation);
     pending_bytes_ += bytes;
     queue_.push_back({sequence, bytes, std::move(operation)});
@@ -206,15 +226,18 @@ std::vector<LocationId> LongTermMemory::LinksOf(LocationId id) {
   return location ? location->Links() : std::vector<LocationId>();
 }
 
+void LongTermMemory::Checkpoint(CheckpointData checkpoint) {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
+    WaitForWriterLocked(lock, [this] { return committed_sequence_ >= last_checkpoint_sequence_; });
+  }
+  Enqueue(std::move(checkpoint));
+}
+
 void LongTermMemory::Flush() {
   std::unique_lock<std::mutex> lock(mutex_);
-  ++waiting_;
-  wake_writer_.notify_one();
-  committed_.wait(lock, [this] {
-    return committed_sequence_ >= next_sequence_ - 1 || !writer_failure_.empty();
-  });
-  --waiting_;
-  ThrowIfFailedLocked();
+  WaitForWriterLocked(lock, [this] { return committed_sequence_ >= CommittableSequenceLocked(); });
 }
 
 void LongTermMemory::CheckWriter() {
@@ -250,6 +273,8 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
     database.WriteLoopClosure(*record);
   } else if (const auto* info = std::get_if<InfoOp>(&operation)) {
     database.WriteInfo(info->key, info->value);
+  } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
+    database.WriteCheckpoint(*checkpoint);
   }
 }
 
@@ -278,10 +303,14 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
       std::deque<Queued> batch;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_writer_.wait(
-            lock, [this] { return stopping_ || (!queue_.empty() && (!held_ || waiting_ > 0)); });
-        if (queue_.empty() && stopping_) return;
-        batch.swap(queue_);
+        wake_writer_.wait(lock, [this] {
+          return stopping_ || (CommittableCountLocked() > 0 && (!held_ || waiting_ > 0));
+        });
+        const size_t count = CommittableCountLocked();
+        if (count == 0 && stopping_) return;  // writes after the last checkpoint are dropped
+        batch.insert(batch.end(), std::make_move_iterator(queue_.begin()),
+                     std::make_move_iterator(queue_.begin() + count));
+        queue_.erase(queue_.begin(), queue_.begin() + count);
       }
       size_t bytes = 0;
       database.Begin();

@@ -32,7 +32,8 @@ struct LtmOptions {
 
 class LongTermMemory {
  public:
-  // Opens the map at `path` (see LtmDatabase for what is refused in each mode).
+  // Opens the map at `path` (see LtmDatabase for what is refused in each mode). An opened map's
+  // locations are all in LTM until Exclude() says otherwise.
   LongTermMemory(const std::string& path, LtmDatabase::Mode mode = LtmDatabase::Mode::kCreate,
                  const LtmOptions& options = {});
   // Commits everything queued, then stops the writer.
@@ -53,6 +54,8 @@ class LongTermMemory {
   // Links of a location in LTM, sorted; empty when it is not in LTM.
   std::vector<LocationId> LinksOf(LocationId id);
   bool Contains(LocationId id) const { return ids_.count(id) > 0; }
+  // Resuming: `id` is in memory (rows it has in the file are an older copy).
+  void Exclude(LocationId id) { ids_.erase(id); }
   const std::set<LocationId>& ids() const { return ids_; }
   size_t size() const { return ids_.size(); }
 
@@ -65,7 +68,13 @@ class LongTermMemory {
   void RecordLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
 
-  // Blocks until every queued write is committed. Rethrows a writer failure.
+  // A resume checkpoint (checkpoint.h). From the first one on, the writer commits only whole
+  // checkpoints: a transaction ends at a checkpoint, and writes queued after the last one wait
+  // for the next (they are dropped if the LTM is destroyed first). At most one checkpoint is
+  // uncommitted: this waits for the previous one, which bounds what a crash can lose.
+  void Checkpoint(CheckpointData checkpoint);
+  // Blocks until every queued write is committed (up to the last checkpoint once checkpoints are
+  // written). Rethrows a writer failure.
   void Flush();
   // Throws DatabaseError when the writer has failed (a full disk, a removed file): the map on
   // disk no longer follows memory, so the detector must stop.
@@ -102,7 +111,7 @@ class LongTermMemory {
     std::string value;
   };
   using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
-                                 LoopClosureRecord, InfoOp>;
+                                 LoopClosureRecord, InfoOp, CheckpointData>;
   struct Queued {
     long long sequence;
     size_t bytes;
@@ -115,6 +124,12 @@ class LongTermMemory {
   void Apply(LtmDatabase& database, const Operation& operation);
   void Forget(long long committed, size_t bytes);
   void ThrowIfFailedLocked() const;
+  // The last sequence the writer may commit now, and how many queued writes that is.
+  long long CommittableSequenceLocked() const;
+  size_t CommittableCountLocked() const;
+  // Waits (mutex_ held by `lock`) until `done` or a writer failure, which it rethrows.
+  template <typename Predicate>
+  void WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done);
   std::optional<Location> ReadLocked(LocationId id, bool links_only);
   // Applies queued renames, redirections and links to a location read from the queue or file.
   void Rewrite(Location& location) const;
@@ -135,6 +150,7 @@ class LongTermMemory {
   bool held_ = false;
   long long next_sequence_ = 1;
   long long committed_sequence_ = 0;
+  long long last_checkpoint_sequence_ = 0;  // 0: no checkpoint yet, every write is committable
   // The overlay: queued, not yet committed. Values: (sequence of the write, data). Renames and
   // redirections are kept resolved to their end (A->S then S->S2 gives A->S2), so one look-up
   // gives what the file will say once everything is committed.

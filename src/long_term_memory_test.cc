@@ -162,5 +162,59 @@ TEST(LongTermMemoryTest, WriterFailureIsReportedAtTheNextCall) {
   EXPECT_LE(ltm.pending_bytes(), options.max_pending_bytes);
 }
 
+// From the first checkpoint on, a transaction ends at a checkpoint: writes after the last one
+// are not committed (a map file always holds one consistent moment of the run).
+CheckpointData StateCheckpoint(int value) {
+  CheckpointData checkpoint;
+  checkpoint.state.emplace_back("test",
+                                std::vector<unsigned char>{static_cast<unsigned char>(value)});
+  return checkpoint;
+}
+
+TEST(LongTermMemoryTest, CommitsOnlyWholeCheckpoints) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LongTermMemory ltm(path);
+    ltm.Store(MakeLocation(1, {1}));
+    ltm.Checkpoint(StateCheckpoint(1));
+    ltm.Store(MakeLocation(2, {2}));
+    ltm.Flush();                           // up to the checkpoint
+    EXPECT_TRUE(ltm.Peek(2).has_value());  // read through the queue
+  }                                        // location 2 is dropped: no checkpoint after it
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  EXPECT_TRUE(database.ReadLocation(1).has_value());
+  EXPECT_FALSE(database.ReadLocation(2).has_value());
+  EXPECT_EQ(*database.ReadState("test"), std::vector<unsigned char>{1});
+}
+
+TEST(LongTermMemoryTest, KilledWriterLeavesTheFileAtACheckpoint) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    LongTermMemory ltm(path);
+    for (int id = 1; id <= 200; ++id) {
+      ltm.Store(MakeLocation(id, std::vector<WordId>(40, id)));
+      ltm.Checkpoint(StateCheckpoint(id));
+      if (id % 2) ltm.Store(MakeLocation(1000 + id, {id}));  // after the checkpoint
+    }
+    raise(SIGKILL);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  const auto state = database.ReadState("test");
+  ASSERT_TRUE(state.has_value());
+  const int last = (*state)[0];
+  EXPECT_GE(last, 199);  // at most one checkpoint in flight: the one before the last committed
+  for (int id = 1; id <= 200; ++id) {
+    EXPECT_EQ(database.ReadLocation(id).has_value(), id <= last) << id;
+    EXPECT_EQ(database.ReadLocation(1000 + id).has_value(), id < last && id % 2) << id;
+  }
+}
+
 }  // namespace
 }  // namespace memloop

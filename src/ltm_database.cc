@@ -46,6 +46,7 @@ void LtmDatabase::CheckIdentity(Mode mode) {
   if (application_id != kApplicationId) {
     throw DatabaseError(path(), "not a memloop map (an SQLite database of another application)");
   }
+  format_version_ = static_cast<int>(version);
   if (version > kFormatVersion) {
     throw DatabaseError(path(), "map format " + std::to_string(version) +
                                     " is newer than this memloop's (" +
@@ -84,6 +85,10 @@ void LtmDatabase::CreateSchema() {
       "CREATE TABLE words(id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
       "CREATE TABLE loop_closures(query_image INTEGER NOT NULL, match_image INTEGER NOT NULL,"
       " query_location INTEGER NOT NULL, match_location INTEGER NOT NULL, probability REAL);"
+      "CREATE TABLE memory_locations(id INTEGER PRIMARY KEY, data BLOB NOT NULL);"
+      "CREATE TABLE index_points(point INTEGER PRIMARY KEY, word_id INTEGER NOT NULL,"
+      " descriptor BLOB NOT NULL);"
+      "CREATE TABLE resume_state(key TEXT PRIMARY KEY, value BLOB NOT NULL);"
       "COMMIT;");
 }
 
@@ -200,6 +205,75 @@ void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
 
 void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
   Cached("INSERT OR REPLACE INTO info(key, value) VALUES(?,?)").Bind(1, key).Bind(2, value).Run();
+}
+
+size_t CheckpointData::bytes() const {
+  size_t total = 64;
+  for (const auto& [id, data] : locations) total += data.size() + 16;
+  for (const Point& point : index_points) total += point.descriptor.size() + 16;
+  for (const auto& [key, value] : state) total += key.size() + value.size();
+  return total + removed_locations.size() * sizeof(LocationId);
+}
+
+void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
+  if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
+  if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_points").Run();
+  for (LocationId id : checkpoint.removed_locations) {
+    Cached("DELETE FROM memory_locations WHERE id=?").Bind(1, static_cast<long long>(id)).Run();
+  }
+  auto& location = Cached("INSERT OR REPLACE INTO memory_locations(id, data) VALUES(?,?)");
+  for (const auto& [id, data] : checkpoint.locations) {
+    location.Bind(1, static_cast<long long>(id))
+        .BindBlob(2, data.data(), static_cast<int>(data.size()))
+        .Run();
+  }
+  auto& point =
+      Cached("INSERT OR REPLACE INTO index_points(point, word_id, descriptor) VALUES(?,?,?)");
+  for (const CheckpointData::Point& row : checkpoint.index_points) {
+    point.Bind(1, row.point)
+        .Bind(2, static_cast<long long>(row.word))
+        .BindBlob(3, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
+        .Run();
+  }
+  auto& state = Cached("INSERT OR REPLACE INTO resume_state(key, value) VALUES(?,?)");
+  for (const auto& [key, value] : checkpoint.state) {
+    state.Bind(1, key).BindBlob(2, value.data(), static_cast<int>(value.size())).Run();
+  }
+}
+
+std::vector<LocationId> LtmDatabase::ReadLocationIds() {
+  auto& query = Cached("SELECT id FROM locations ORDER BY id");
+  std::vector<LocationId> ids;
+  while (query.Step()) ids.push_back(static_cast<LocationId>(query.Int(0)));
+  query.Reset();
+  return ids;
+}
+
+std::vector<std::pair<LocationId, std::vector<unsigned char>>> LtmDatabase::ReadMemoryLocations() {
+  auto& query = Cached("SELECT id, data FROM memory_locations ORDER BY id");
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> rows;
+  while (query.Step()) rows.emplace_back(static_cast<LocationId>(query.Int(0)), query.Blob(1));
+  query.Reset();
+  return rows;
+}
+
+std::vector<CheckpointData::Point> LtmDatabase::ReadIndexPoints() {
+  auto& query = Cached("SELECT point, word_id, descriptor FROM index_points ORDER BY point");
+  std::vector<CheckpointData::Point> rows;
+  while (query.Step()) {
+    rows.push_back({query.Int(0), static_cast<WordId>(query.Int(1)), query.Blob(2)});
+  }
+  query.Reset();
+  return rows;
+}
+
+std::optional<std::vector<unsigned char>> LtmDatabase::ReadState(const std::string& key) {
+  auto& query = Cached("SELECT value FROM resume_state WHERE key=?");
+  query.Bind(1, key);
+  std::optional<std::vector<unsigned char>> value;
+  if (query.Step()) value = query.Blob(0);
+  query.Reset();
+  return value;
 }
 
 std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {

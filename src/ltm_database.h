@@ -22,10 +22,29 @@ struct LoopClosureRecord {
   double probability = 0;
 };
 
+// One resume checkpoint (checkpoint.h) as rows: the STM/WM locations and the dictionary's index
+// points that changed since the previous checkpoint, and the detector's state blobs.
+struct CheckpointData {
+  bool full = false;  // replaces every location and index point the file holds
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> locations;
+  std::vector<LocationId> removed_locations;
+  bool reset_index = false;  // the index was rebuilt: its old points go
+  struct Point {
+    long long point;
+    WordId word;
+    std::vector<unsigned char> descriptor;
+  };
+  std::vector<Point> index_points;
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> state;
+
+  size_t bytes() const;
+};
+
 class LtmDatabase {
  public:
   static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
-  static constexpr int kFormatVersion = 1;
+  // 1: LTM only. 2: adds the resume checkpoint (memory_locations, index_points, resume_state).
+  static constexpr int kFormatVersion = 2;
 
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty
@@ -51,12 +70,20 @@ class LtmDatabase {
   void WriteLink(LocationId from, LocationId to, bool loop_closure);
   void WriteLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
+  void WriteCheckpoint(const CheckpointData& checkpoint);
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
   std::vector<LocationId> ReadLinks(LocationId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
   std::string ReadInfo(const std::string& key);
+  // Every location id with rows in LTM, sorted.
+  std::vector<LocationId> ReadLocationIds();
+  // The checkpoint's rows: (id, blob) of memory locations and index points in point order.
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> ReadMemoryLocations();
+  std::vector<CheckpointData::Point> ReadIndexPoints();
+  std::optional<std::vector<unsigned char>> ReadState(const std::string& key);
+  int format_version() const { return format_version_; }
   long long CountLocations();
   long long CountWords();
 
@@ -68,6 +95,7 @@ class LtmDatabase {
   SqliteStatement& Cached(const std::string& sql);
 
   SqliteConnection connection_;
+  int format_version_ = kFormatVersion;
   std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
 };
 

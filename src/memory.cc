@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 
+#include "memloop/errors.h"
+
 namespace memloop {
 
 std::vector<LocationId> Location::Links() const {
@@ -109,6 +111,33 @@ void Memory::Restore(Location location) {
   }
   working_memory_.insert(id);
   locations_[id] = std::move(location);
+}
+
+void Memory::Reload(std::map<LocationId, Location> locations, const std::deque<LocationId>& stm,
+                    LocationId next_id) {
+  for (const auto& [id, location] : locations) {
+    if (id != location.id || id <= kNoLocation || id >= next_id) {
+      throw Error("location " + std::to_string(id) + " is out of the map's id range");
+    }
+    for (WordId word : location.signature.words) {
+      if (!dictionary_.Contains(word)) {
+        throw Error("word " + std::to_string(word) + " of location " + std::to_string(id) +
+                    " is not in the dictionary");
+      }
+    }
+  }
+  locations_ = std::move(locations);
+  stm_.clear();
+  working_memory_.clear();
+  for (LocationId id : stm) {
+    if (!locations_.count(id)) throw Error("STM location " + std::to_string(id) + " is missing");
+    stm_.push_back(id);
+  }
+  for (const auto& [id, location] : locations_) {
+    ReferenceWords(location);
+    if (std::find(stm_.begin(), stm_.end(), id) == stm_.end()) working_memory_.insert(id);
+  }
+  next_id_ = next_id;
 }
 
 std::vector<LocationId> Memory::LinksOf(LocationId id) const { return at(id).Links(); }

@@ -66,6 +66,13 @@ class Memory {
   // Retrieval: a location from LTM enters WM. All its words must be in the dictionary.
   void Restore(Location location);
 
+  // Resuming a map: STM (`stm`, oldest first) and WM (the other `locations`), and the next id to
+  // give. The dictionary must hold every word of the locations; they get their references here.
+  // Throws Error when the locations disagree with the dictionary or the ids.
+  void Reload(std::map<LocationId, Location> locations, const std::deque<LocationId>& stm,
+              LocationId next_id);
+  LocationId next_id() const { return next_id_; }
+
   // Links of a location in memory (neighbours and loop closures), sorted.
   std::vector<LocationId> LinksOf(LocationId id) const;
   // WM locations within `range` links of a WM location, over links among STM and WM.

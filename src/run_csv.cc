@@ -2,6 +2,8 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -25,17 +27,56 @@ std::string Quoted(const std::string& text) {
   return quoted + "\"";
 }
 
+constexpr const char* kHeader =
+    "image,name,location_id,matched_image,matched_location,matched_images,hypothesis_id,"
+    "hypothesis_value,hypothesis_images,virtual_place,rehearsal_merged,features,words,"
+    "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
+    "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred";
+
 }  // namespace
 
 RunCsvWriter::RunCsvWriter(const std::string& path) : path_(path), out_(path) {
   if (!out_) throw InputError(path, "cannot write the results file");
-  out_ << "image,name,location_id,matched_image,matched_location,matched_images,hypothesis_id,"
-          "hypothesis_value,hypothesis_images,virtual_place,rehearsal_merged,features,words,"
-          "iteration_ms,"
-          "signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
-          "transfer_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred\n";
+  out_ << kHeader << '\n';
   out_.flush();
   if (!out_) throw InputError(path, "writing the results failed (disk full?)");
+}
+
+RunCsvWriter::RunCsvWriter(const std::string& path, ImageIndex keep_through) : path_(path) {
+  std::ifstream in(path);
+  if (!in) {  // nothing to continue: a new CSV
+    out_.open(path);
+    if (!out_) throw InputError(path, "cannot write the results file");
+    out_ << kHeader << '\n';
+    return;
+  }
+  std::string line;
+  if (!std::getline(in, line) || line != kHeader) {
+    throw InputError(path,
+                     "not a results CSV of this memloop: cannot continue it (give another "
+                     "--out, or remove the file)");
+  }
+  std::string kept = line + '\n';
+  // Rows are in image order; a row cut by a crash (no end of line) goes too.
+  while (std::getline(in, line) && !in.eof()) {
+    char* end = nullptr;
+    const long image = std::strtol(line.c_str(), &end, 10);
+    if (end == line.c_str() || *end != ',' || image > keep_through) break;
+    kept += line + '\n';
+  }
+  in.close();
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << kept;
+    out.close();
+    if (!out) throw InputError(temporary, "writing the results failed (disk full?)");
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    throw InputError(path, std::string("cannot replace the results file: ") + std::strerror(errno));
+  }
+  out_.open(path, std::ios::app);
+  if (!out_) throw InputError(path, "cannot write the results file");
 }
 
 void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
@@ -52,9 +93,9 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
        << result.rehearsal_merged_id << ',' << result.feature_count << ',' << result.word_count
        << ',' << t.total_ms << ',' << t.signature_ms << ',' << t.rehearsal_ms << ','
        << t.likelihood_ms << ',' << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms
-       << ',' << t.transfer_ms << ',' << result.stm_size << ',' << result.wm_size << ','
-       << result.ltm_size << ',' << result.dictionary_size << ',' << Join(result.retrieved_ids)
-       << ',' << Join(result.transferred_ids) << '\n';
+       << ',' << t.transfer_ms << ',' << t.checkpoint_ms << ',' << result.stm_size << ','
+       << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
+       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << '\n';
   out_.flush();
   if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
 }

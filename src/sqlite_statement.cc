@@ -57,7 +57,10 @@ SqliteStatement& SqliteStatement::Bind(int index, const std::string& value) {
 }
 
 SqliteStatement& SqliteStatement::BindBlob(int index, const void* data, int bytes) {
-  connection_.Check(sqlite3_bind_blob(statement_, index, data, bytes, SQLITE_TRANSIENT), "bind");
+  // An empty blob is a zero-length blob, not NULL (what sqlite3_bind_blob makes of a null pointer).
+  const int code = bytes == 0 ? sqlite3_bind_zeroblob(statement_, index, 0)
+                              : sqlite3_bind_blob(statement_, index, data, bytes, SQLITE_TRANSIENT);
+  connection_.Check(code, "bind");
   return *this;
 }
 

@@ -15,6 +15,20 @@
 
 namespace memloop {
 
+// What the index was given since its last full build, enough to rebuild it exactly: FLANN's trees
+// depend on the order points came in (and on points removed since), not only on the live words.
+// Resuming a map (checkpoint.h) stores it and replays it.
+struct IndexHistory {
+  int build_count = 0;
+  size_t size_at_build = 0;
+  size_t changes_since_build = 0;
+  std::vector<size_t> batch_starts;  // first point of each Add since the build; [0] is the build
+  size_t point_count = 0;            // points since the build, removed ones included
+  size_t first_point = 0;            // point_words and descriptors start at this point
+  std::vector<WordId> point_words;
+  cv::Mat descriptors;  // one row per point from first_point
+};
+
 struct Neighbour {
   WordId word = kNoWord;
   float distance = 0;  // true L2 distance (not squared), or Hamming distance in bits
@@ -40,6 +54,11 @@ class WordIndex {
   virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const = 0;
   // Full builds so far.
   virtual int build_count() const = 0;
+  // The history since the last build, with the points from `from_point` on.
+  virtual IndexHistory History(size_t from_point) const = 0;
+  // Rebuilds the index exactly as `history` (all points from 0) left it, with `live_words` (the
+  // words not removed since) searchable. Throws Error when the history is inconsistent.
+  virtual void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) = 0;
 
   DescriptorKind kind() const { return kind_; }
   int dim() const { return dim_; }

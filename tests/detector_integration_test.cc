@@ -9,6 +9,7 @@
 #include "memloop/errors.h"
 #include "memloop/evaluation.h"
 #include "memloop/synthetic_route.h"
+#include "short_route.h"
 #include "temp_dir.h"
 
 namespace memloop {
@@ -110,13 +111,7 @@ TEST(DetectorIntegrationTest, SameInputSameResults) {
   }
 }
 
-SyntheticRouteOptions ShortRoute() {
-  SyntheticRouteOptions options;
-  options.lap_frames = 40;
-  options.detour_frames = 10;
-  options.third_lap_frames = 10;
-  return options;
-}
+using testing::ShortRoute;
 
 // T_time smaller than any iteration: every iteration is over the limit, whatever the machine.
 TEST(DetectorIntegrationTest, TimeLimitTransfersEveryIterationItIsExceeded) {

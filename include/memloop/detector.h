@@ -19,11 +19,20 @@
 
 namespace memloop {
 
+enum class MapMode {
+  kNew,     // a new map: the file must not exist or be empty (an existing file is not modified)
+  kResume,  // go on with the map in the file from its last checkpoint
+};
+
 class Detector {
  public:
-  // Throws ParameterError for invalid options and DatabaseError when `database_path` cannot hold
-  // a new map (it must not exist or be empty; an existing file is never modified).
-  Detector(const Options& options, const std::string& database_path);
+  // Throws ParameterError for invalid options and DatabaseError when `database_path` cannot be
+  // used: kNew, it holds something; kResume, it is not a memloop map, is damaged, has no
+  // checkpoint (made by an older memloop), or was made with different values of parameters that
+  // define the map (ParameterError naming each; see DefinesMap in params.h). A refused file is
+  // never modified. Resuming restores STM, WM, the dictionary and the filter as they were at the
+  // last checkpoint; images after it are to be given again (last_image() says which).
+  Detector(const Options& options, const std::string& database_path, MapMode mode = MapMode::kNew);
   ~Detector();
   Detector(const Detector&) = delete;
   Detector& operator=(const Detector&) = delete;
@@ -33,8 +42,14 @@ class Detector {
   // images processed so far. Throws InputError for an empty or unsupported image, nothing changed.
   Result Process(const cv::Mat& image, ImageIndex image_index = kNoImage);
 
-  // Waits until everything transferred so far is committed to the database.
+  // Writes a checkpoint and waits until it is committed with everything before it: a crash
+  // after Flush() loses nothing (memory.checkpoint_interval bounds the loss otherwise).
   void Flush();
+  // The image of the last Process() call; for a resumed map, of the last checkpoint until then.
+  // kNoImage before any image.
+  ImageIndex last_image() const;
+  // Images processed in this map, over every run that resumed it.
+  long long images_processed() const;
   // Verifies the map's invariants and returns what is wrong (empty: consistent): every link is
   // symmetric and points to a location in memory or LTM; every word of an STM/WM location is in
   // the dictionary with the right reference count; every word of an LTM location is stored in
@@ -44,8 +59,10 @@ class Detector {
   // For tests: holds the LTM writer back (it then commits only when the detector must wait for
   // it). Results must not depend on it; the determinism tests use it.
   void SetWriterHeld(bool held);
-  // Stores the STM and WM locations too and commits, so the file holds the whole map. Process()
-  // may not be called afterwards. The destructor calls it, but cannot report a failure.
+  // Stores the STM and WM locations too, writes a checkpoint and commits, so the file holds the
+  // whole map and can be resumed. Process() may not be called afterwards. The destructor calls
+  // it, but cannot report a failure. After a failed Process() (an exception other than a refused
+  // image), nothing more is written: the file stays at its last checkpoint.
   void Close();
   const Options& options() const;
 
@@ -53,5 +70,9 @@ class Detector {
   class Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The options a map was made with (its parameter table). Throws DatabaseError when `path` is not
+// a readable memloop map. `memloop run --resume` starts from these.
+Options ReadMapOptions(const std::string& path);
 
 }  // namespace memloop

@@ -27,6 +27,13 @@ class ImageSequence {
   // The next frame; false at the end. An unreadable image gives a frame with `error` set, so the
   // caller can warn, skip and count it.
   virtual bool Next(Frame* frame) = 0;
+  // Skips the frames before index `first` (a resumed run starts after the map's last image).
+  // Folders skip without reading; videos decode and drop.
+  virtual void SkipTo(ImageIndex first) {
+    Frame frame;
+    for (ImageIndex index = 0; index < first && Next(&frame); ++index) {
+    }
+  }
   // Number of frames, or -1 when unknown.
   virtual int size() const = 0;
 };

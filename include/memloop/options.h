@@ -61,6 +61,9 @@ struct MemoryOptions {
   int max_dictionary_words = 0;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
+  // A resume checkpoint every this many images (checkpoint.h). A crash loses at most
+  // 2 * checkpoint_interval images: the last committed checkpoint is at most one behind.
+  int checkpoint_interval = 1;
 };
 
 struct FilterOptions {

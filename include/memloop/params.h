@@ -25,6 +25,9 @@ struct Parameter {
   std::string symbol;                // the paper's symbol or equation, "" when none
   std::string description;           // one line
 
+  // Features, SURF and dictionary parameters: they define what a stored word means and how
+  // words are found, so a map keeps them (resuming with another value is refused).
+  bool DefinesMap() const;
   std::string TypeName() const;                   // "int", "double", "string"
   std::string Get(const Options& options) const;  // value as text
   std::string RangeText() const;                  // "[0, 1]", "(0, 1]", "sift|orb"

@@ -19,6 +19,7 @@ struct StageTimes {
   double selection_ms = 0;   // III-D
   double retrieval_ms = 0;   // III-E
   double transfer_ms = 0;    // III-F
+  double checkpoint_ms = 0;  // the resume checkpoint queued for the map file
   double total_ms = 0;       // the whole iteration
 };
 

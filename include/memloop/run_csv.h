@@ -14,6 +14,10 @@ class RunCsvWriter {
  public:
   // Throws InputError when `path` cannot be written.
   explicit RunCsvWriter(const std::string& path);
+  // A resumed run's CSV: keeps the header and the rows of images up to `keep_through` (those the
+  // map's checkpoint holds), drops later ones (they are processed again), and appends. A missing
+  // file starts a new CSV. Throws InputError when the file is not a run CSV of this memloop.
+  RunCsvWriter(const std::string& path, ImageIndex keep_through);
   // Writes and flushes one row, so that a killed run leaves whole rows. Throws InputError when
   // the write fails (a full disk).
   void Write(const std::string& image_name, const Result& result);

@@ -1,9 +1,11 @@
-// memloop run IMAGES_DIR|VIDEO_FILE [--db FILE] [--set NAME=VALUE ...] [--out FILE.csv]
+// memloop run IMAGES_DIR|VIDEO_FILE [--db FILE [--resume]] [--set NAME=VALUE ...] [--out FILE.csv]
 #include <iostream>
 
 #include "commands.h"
+#include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/image_sequence.h"
+#include "memloop/params.h"
 #include "session.h"
 
 namespace memloop::cli {
@@ -14,26 +16,37 @@ void AddRunCommand(CLI::App& app) {
     std::string database;
     std::string out;
     std::vector<std::string> assignments;
+    bool resume = false;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* run = app.add_subcommand(
       "run", "Detect loop closures in a folder of images (natural numeric order) or a video");
   run->add_option("input", arguments->input, "Folder of images or video file")->required();
-  run->add_option("--db", arguments->database,
-                  "New map database file (the Long-Term Memory); default: a temporary file");
+  CLI::Option* database = run->add_option(
+      "--db", arguments->database,
+      "Map database file (the Long-Term Memory): a new file, or with --resume an existing map; "
+      "default: a temporary file");
+  run->add_flag("--resume", arguments->resume,
+                "Go on with the map in --db from its last checkpoint: images after the one it "
+                "holds are processed, --out is continued, parameters are the map's (--set may "
+                "change those that do not define the map)")
+      ->needs(database);
   run->add_option("--out", arguments->out, "CSV of per-image results");
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
   run->callback([arguments] {
-    const Options options = OptionsFromAssignments(arguments->assignments);
+    Options options = arguments->resume ? ReadMapOptions(arguments->database) : Options();
+    for (const std::string& assignment : arguments->assignments) {
+      SetParameter(options, assignment);
+    }
     auto sequence = ImageSequence::Open(arguments->input);
     const SessionReport report =
-        RunSession(*sequence, options, arguments->database, arguments->out);
+        RunSession(*sequence, options, arguments->database, arguments->out, arguments->resume);
     for (const Result& result : report.results) {
       if (result.HasLoopClosure()) std::cout << result.Brief() << "\n";
     }
     std::cout << Summary(report) << "\n";
-    if (report.results.empty()) {
+    if (report.results.empty() && !arguments->resume) {
       throw InputError(arguments->input,
                        "no readable image (" + std::to_string(report.skipped) + " skipped)");
     }

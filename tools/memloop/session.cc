@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 
 #include "memloop/detector.h"
@@ -40,12 +41,21 @@ class TemporaryDatabase {
 }  // namespace
 
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
-                         const std::string& database_path, const std::string& csv_path) {
+                         const std::string& database_path, const std::string& csv_path,
+                         bool resume) {
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
-  Detector detector(options, temporary ? temporary->path() : database_path);
+  Detector detector(options, temporary ? temporary->path() : database_path,
+                    resume ? MapMode::kResume : MapMode::kNew);
   std::unique_ptr<RunCsvWriter> csv;
-  if (!csv_path.empty()) csv = std::make_unique<RunCsvWriter>(csv_path);
+  if (resume) {
+    std::cout << "resuming " << database_path << " after image " << detector.last_image() << " ("
+              << detector.images_processed() << " images in the map)" << std::endl;
+    sequence.SkipTo(detector.last_image() + 1);
+    if (!csv_path.empty()) csv = std::make_unique<RunCsvWriter>(csv_path, detector.last_image());
+  } else if (!csv_path.empty()) {
+    csv = std::make_unique<RunCsvWriter>(csv_path);
+  }
 
   SessionReport report;
   int loop_closures = 0;

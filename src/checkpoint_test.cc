@@ -1,0 +1,171 @@
+#include "checkpoint.h"
+
+#include <gtest/gtest.h>
+
+#include "memloop/errors.h"
+#include "small_memory.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+using testing::AddChain;
+using testing::SmallDictionaryOptions;
+
+Location SampleLocation() {
+  Location location;
+  location.id = 7;
+  location.weight = 3;
+  location.signature = testing::MakeSignature({4, 9, 4});
+  location.neighbours = {6, 8};
+  location.loop_closures = {2};
+  location.images = {7, 12};
+  return location;
+}
+
+TEST(CheckpointTest, LocationsRoundTripExactly) {
+  const Location location = SampleLocation();
+  const Location decoded = DecodeLocation(EncodeLocation(location));
+  EXPECT_EQ(decoded.id, 7);
+  EXPECT_EQ(decoded.weight, 3);
+  EXPECT_EQ(decoded.signature.words, location.signature.words);
+  ASSERT_EQ(decoded.signature.keypoints.size(), 3u);
+  EXPECT_EQ(decoded.signature.keypoints[2].pt, location.signature.keypoints[2].pt);
+  EXPECT_EQ(decoded.signature.keypoints[2].octave, 1);
+  EXPECT_EQ(decoded.neighbours, location.neighbours);
+  EXPECT_EQ(decoded.loop_closures, location.loop_closures);
+  EXPECT_EQ(decoded.images, location.images);
+}
+
+TEST(CheckpointTest, DamagedLocationBytesAreRefused) {
+  std::vector<unsigned char> bytes = EncodeLocation(SampleLocation());
+  std::vector<unsigned char> cut(bytes.begin(), bytes.end() - 3);
+  EXPECT_THROW(DecodeLocation(cut), Error);
+  bytes.push_back(0);
+  EXPECT_THROW(DecodeLocation(bytes), Error);
+  // A count far larger than the bytes left is refused before anything is allocated.
+  std::vector<unsigned char> huge = EncodeLocation(SampleLocation());
+  huge[15] = 0x7f;  // the image count's most significant byte
+  EXPECT_THROW(DecodeLocation(huge), Error);
+}
+
+class CheckpointWriterTest : public ::testing::Test {
+ protected:
+  CheckpointWriterTest()
+      : memory_(DescriptorKind::kFloat, 2, Options()), filter_(FilterOptions()) {}
+
+  static DictionaryOptions Options() {
+    DictionaryOptions options = SmallDictionaryOptions();
+    options.rebuild_fraction = 100;  // points stay in the order they came
+    return options;
+  }
+
+  CheckpointData Next() { return writer_.Next(memory_, filter_, past_matches_, counters_); }
+
+  Memory memory_;
+  BayesFilter filter_;
+  std::vector<PastMatch> past_matches_;
+  DetectorCounters counters_;
+  CheckpointWriter writer_;
+};
+
+TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
+  AddChain(memory_, {{1, 2}, {2, 3}, {4}});  // words 1-4, one Add each
+  CheckpointData first = Next();
+  EXPECT_TRUE(first.full);
+  EXPECT_EQ(first.locations.size(), 3u);
+  EXPECT_EQ(first.index_points.size(), 4u);
+  EXPECT_EQ(first.state.size(), 6u);  // counters, stm, dictionary, index, filter, past matches
+
+  const CheckpointData unchanged = Next();
+  EXPECT_FALSE(unchanged.full);
+  EXPECT_TRUE(unchanged.locations.empty());
+  EXPECT_TRUE(unchanged.removed_locations.empty());
+  EXPECT_TRUE(unchanged.index_points.empty());
+  EXPECT_TRUE(unchanged.state.empty());
+
+  memory_.at(2).weight = 5;
+  AddChain(memory_, {{5}});  // location 4 with a new word: one new index point
+  counters_.last_image = 3;
+  const CheckpointData changed = Next();
+  ASSERT_EQ(changed.locations.size(), 2u);  // 2 (weight) and 4 (new, a chain of its own)
+  EXPECT_EQ(changed.locations[0].first, 2);
+  EXPECT_EQ(changed.locations[1].first, 4);
+  EXPECT_FALSE(changed.reset_index);
+  ASSERT_EQ(changed.index_points.size(), 1u);
+  EXPECT_EQ(changed.index_points[0].point, 4);
+  EXPECT_EQ(changed.index_points[0].word, 5);
+  EXPECT_EQ(changed.state.size(), 3u);  // counters, stm, index
+
+  std::vector<WordId> orphans;
+  memory_.MoveStmOverflowToWm(0);
+  memory_.Release(1, &orphans);
+  const CheckpointData removed = Next();
+  EXPECT_EQ(removed.removed_locations, (std::vector<LocationId>{1}));
+}
+
+TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory_, {{1, 2}, {2, 3}, {4}, {1, 4}});
+  memory_.MoveStmOverflowToWm(2);
+  filter_.Reload({{1, 0.25}, {2, 0.5}}, 0.25);
+  past_matches_ = {{1, 4}};
+  counters_ = {11, 12, 4};
+  database.WriteCheckpoint(Next());
+  memory_.at(3).weight = 2;
+  database.WriteCheckpoint(Next());
+
+  Memory reloaded_memory(DescriptorKind::kFloat, 2, Options());
+  const ResumeState state = ReadCheckpoint(database, reloaded_memory.dictionary());
+  EXPECT_EQ(state.counters.last_image, 11);
+  EXPECT_EQ(state.counters.images_processed, 12);
+  EXPECT_EQ(state.counters.newest_location, 4);
+  EXPECT_EQ(state.next_location_id, 5);
+  EXPECT_EQ(state.next_word_id, 5);
+  EXPECT_EQ(state.stm, (std::deque<LocationId>{3, 4}));
+  EXPECT_EQ(state.words, (std::vector<WordId>{1, 2, 3, 4}));
+  ASSERT_EQ(state.locations.size(), 4u);
+  EXPECT_EQ(state.locations.at(3).weight, 2);
+  EXPECT_EQ(state.locations.at(4).signature.words, (std::vector<WordId>{1, 4}));
+  EXPECT_EQ(state.posterior, (std::map<LocationId, double>{{1, 0.25}, {2, 0.5}}));
+  EXPECT_EQ(state.virtual_place, 0.25);
+  ASSERT_EQ(state.past_matches.size(), 1u);
+  EXPECT_EQ(state.past_matches[0].matcher, 4);
+  EXPECT_EQ(state.index.point_count, 4u);
+  EXPECT_EQ(state.index.point_words, (std::vector<WordId>{1, 2, 3, 4}));
+
+  // The reloaded dictionary finds the words where the original does.
+  reloaded_memory.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
+                                      state.next_word_id);
+  reloaded_memory.Reload(state.locations, state.stm, state.next_location_id);
+  const cv::Mat probe = (cv::Mat_<float>(2, 2) << 301, 0, 99, 0);
+  EXPECT_EQ(reloaded_memory.dictionary().Match(probe), memory_.dictionary().Match(probe));
+  EXPECT_EQ(reloaded_memory.dictionary().References(4), memory_.dictionary().References(4));
+  EXPECT_EQ(reloaded_memory.working_memory(), memory_.working_memory());
+}
+
+TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  try {
+    ReadCheckpoint(database, memory_.dictionary());
+    ADD_FAILURE() << "a map without checkpoint was read";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("no resume checkpoint"), std::string::npos)
+        << error.what();
+  }
+  AddChain(memory_, {{1, 2}});
+  CheckpointData checkpoint = Next();
+  checkpoint.locations[0].second.resize(5);
+  database.WriteCheckpoint(checkpoint);
+  try {
+    ReadCheckpoint(database, memory_.dictionary());
+    ADD_FAILURE() << "a truncated location was read";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace memloop

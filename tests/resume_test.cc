@@ -1,0 +1,321 @@
+// Resuming a map: after Close, after a crash right after a checkpoint (a copy of the file), and
+// after kill -9 at random moments of the memloop tool. With T_time off, the resumed run gives the
+// results an uninterrupted run gives, image for image.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <random>
+#include <thread>
+
+#include "cli_helpers.h"
+#include "memloop/detector.h"
+#include "memloop/errors.h"
+#include "memloop/synthetic_route.h"
+#include "short_route.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+namespace fs = std::filesystem;
+
+using testing::ShortRoute;
+
+Options WithBudget(int max_wm_locations) {
+  Options options;
+  options.memory.time_limit_ms = 0;
+  options.memory.max_wm_locations = max_wm_locations;
+  return options;
+}
+
+std::vector<Result> Process(Detector& detector, const SyntheticRoute& route, int begin, int end) {
+  std::vector<Result> results;
+  for (int index = begin; index < end; ++index) {
+    results.push_back(detector.Process(route.Render(index), index));
+  }
+  return results;
+}
+
+void ExpectSameResults(const std::vector<Result>& expected, const std::vector<Result>& actual) {
+  ASSERT_EQ(expected.size(), actual.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const Result& a = expected[i];
+    const Result& b = actual[i];
+    ASSERT_EQ(a.image_index, b.image_index);
+    ASSERT_EQ(a.location_id, b.location_id) << "image " << a.image_index;
+    ASSERT_EQ(a.hypothesis_id, b.hypothesis_id) << "image " << a.image_index;
+    ASSERT_EQ(a.hypothesis_value, b.hypothesis_value) << "image " << a.image_index;
+    ASSERT_EQ(a.loop_closure_id, b.loop_closure_id) << "image " << a.image_index;
+    ASSERT_EQ(a.retrieved_ids, b.retrieved_ids) << "image " << a.image_index;
+    ASSERT_EQ(a.transferred_ids, b.transferred_ids) << "image " << a.image_index;
+    ASSERT_EQ(a.dictionary_size, b.dictionary_size) << "image " << a.image_index;
+  }
+}
+
+int LoopClosures(const std::vector<Result>& results) {
+  int count = 0;
+  for (const Result& result : results) count += result.HasLoopClosure();
+  return count;
+}
+
+class ResumeTest : public ::testing::TestWithParam<int> {
+ protected:
+  ResumeTest() : route_(ShortRoute()), options_(WithBudget(GetParam())) {
+    testing::TempDir dir;
+    Detector detector(options_, dir.File("map.db"));
+    uninterrupted_ = Process(detector, route_, 0, route_.size());
+  }
+  std::vector<Result> After(int image) const {
+    return {uninterrupted_.begin() + image, uninterrupted_.end()};
+  }
+
+  SyntheticRoute route_;
+  Options options_;
+  std::vector<Result> uninterrupted_;
+  testing::TempDir dir_;
+};
+
+TEST_P(ResumeTest, ClosedMapGoesOnAsIfNeverStopped) {
+  const int stop = route_.size() / 2 + 3;
+  {
+    Detector detector(options_, dir_.File("map.db"));
+    Process(detector, route_, 0, stop);
+    detector.Close();
+  }
+  Detector resumed(options_, dir_.File("map.db"), MapMode::kResume);
+  EXPECT_EQ(resumed.last_image(), stop - 1);
+  EXPECT_EQ(resumed.images_processed(), stop);
+  EXPECT_EQ(resumed.CheckConsistency(), std::vector<std::string>());
+  ExpectSameResults(After(stop), Process(resumed, route_, stop, route_.size()));
+  EXPECT_GT(LoopClosures(After(stop)), 0) << "the test needs loop closures after the stop";
+  EXPECT_EQ(resumed.CheckConsistency(), std::vector<std::string>());
+}
+
+// A crash right after a checkpoint: the file copied then is what a killed run leaves.
+TEST_P(ResumeTest, FileLeftAtACheckpointGoesOnAsTheOriginal) {
+  const int stop = route_.size() / 3;
+  const std::string original_path = dir_.File("map.db");
+  const std::string copy_path = dir_.File("copy.db");
+  {
+    Detector original(options_, original_path);
+    original.SetWriterHeld(true);  // the copy must not depend on the writer having kept up
+    Process(original, route_, 0, stop);
+    original.Flush();
+    for (const char* suffix : {"", "-wal"}) {
+      if (fs::exists(original_path + suffix))
+        fs::copy_file(original_path + suffix, copy_path + suffix);
+    }
+  }
+  Detector resumed(options_, copy_path, MapMode::kResume);
+  EXPECT_EQ(resumed.last_image(), stop - 1);
+  EXPECT_EQ(resumed.CheckConsistency(), std::vector<std::string>());
+  ExpectSameResults(After(stop), Process(resumed, route_, stop, route_.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(WmBudgets, ResumeTest, ::testing::Values(20, 30));
+
+std::string FileBytes(const std::string& path) { return ReadFile(path); }
+
+TEST(ResumeRefusalTest, OnlyAMemloopMapWithItsOwnWordsIsResumed) {
+  const SyntheticRoute route(ShortRoute());
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    Detector detector(WithBudget(20), path);
+    Process(detector, route, 0, 5);
+  }
+  const std::string before = FileBytes(path);
+  Options other_words = WithBudget(20);
+  other_words.dictionary.nndr_ratio = 0.7;
+  other_words.features.surf_hessian_threshold = 60;
+  try {
+    Detector refused(other_words, path, MapMode::kResume);
+    ADD_FAILURE() << "other map-defining parameters were accepted";
+  } catch (const ParameterError& error) {
+    EXPECT_NE(std::string(error.what()).find("dictionary.nndr_ratio (map: 0.8, given: 0.7)"),
+              std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("surf.hessian_threshold"), std::string::npos);
+  }
+  EXPECT_EQ(FileBytes(path), before);
+  EXPECT_THROW(Detector(WithBudget(20), dir.File("absent.db"), MapMode::kResume), DatabaseError);
+
+  // The budget and the decision's parameters may change on resume.
+  EXPECT_EQ(ReadMapOptions(path).memory.max_wm_locations, 20);
+  Options other_budget = WithBudget(30);
+  other_budget.filter.loop_threshold = 0.2;
+  Detector resumed(other_budget, path, MapMode::kResume);
+  EXPECT_EQ(resumed.last_image(), 4);
+  resumed.Close();
+  EXPECT_EQ(ReadMapOptions(path).memory.max_wm_locations, 30);
+}
+
+TEST(ResumeRefusalTest, MapOfAnOlderFormatIsRefusedUntouched) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  { Detector detector(WithBudget(20), path); }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DELETE FROM resume_state; PRAGMA user_version=1;", nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  const std::string before = FileBytes(path);
+  try {
+    Detector refused(WithBudget(20), path, MapMode::kResume);
+    ADD_FAILURE() << "a map of format 1 was resumed";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("older memloop"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(FileBytes(path), before);
+}
+
+// kill -9 of the memloop tool at random moments.
+std::string IntegrityCheck(const std::string& path) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) return "cannot open";
+  std::string verdict = "no answer";
+  sqlite3_exec(
+      db, "PRAGMA integrity_check",
+      [](void* out, int, char** values, char**) {
+        *static_cast<std::string*>(out) = values[0] ? values[0] : "null";
+        return 0;
+      },
+      &verdict, nullptr);
+  sqlite3_close(db);
+  return verdict;
+}
+
+int CsvRows(const std::string& path) {
+  const std::string text = ReadFile(path);
+  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  return std::max(0, lines - 1);
+}
+
+// Starts the tool with `arguments` (stdout and stderr to `log`); returns its pid.
+pid_t Start(const std::vector<std::string>& arguments, const std::string& log) {
+  const pid_t child = fork();
+  if (child == 0) {
+    freopen(log.c_str(), "w", stdout);
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv = {const_cast<char*>(MEMLOOP_CLI)};
+    for (const std::string& argument : arguments)
+      argv.push_back(const_cast<char*>(argument.c_str()));
+    argv.push_back(nullptr);
+    execv(MEMLOOP_CLI, argv.data());
+    _exit(127);
+  }
+  return child;
+}
+
+// Kills `child` with SIGKILL once `csv` has at least `rows` rows. False when it ended before.
+bool KillAfterRows(pid_t child, const std::string& csv, int rows) {
+  for (;;) {
+    int status = 0;
+    if (waitpid(child, &status, WNOHANG) == child) return false;
+    if (CsvRows(csv) >= rows) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFSIGNALED(status);
+}
+
+TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
+  testing::TempDir dir;
+  SyntheticRoute(ShortRoute()).Write(dir.path().string());
+  const std::string images = dir.File("images");
+  const std::vector<std::string> budget = {"--set", "memory.time_limit_ms=0",
+                                           "memory.max_wm_locations=30"};
+  ASSERT_EQ(Memloop("run " + images + " --set memory.time_limit_ms=0 memory.max_wm_locations=30" +
+                    " --out " + dir.File("whole.csv"))
+                .exit_code,
+            0);
+  const std::string expected = WithoutTimes(ReadFile(dir.File("whole.csv")));
+  const int total = CsvRows(dir.File("whole.csv"));
+  ASSERT_GT(total, 60);
+  ASSERT_TRUE(Contains(ReadFile(dir.File("whole.csv")), ";"));  // loop closures are in it
+
+  // Three kills at random rows, in order; each resumed run is killed again, the last completes.
+  std::random_device device;
+  std::vector<int> kill_rows;
+  for (int k = 0; k < 3; ++k) kill_rows.push_back(10 + static_cast<int>(device() % (total - 30)));
+  std::sort(kill_rows.begin(), kill_rows.end());
+  const std::string map = dir.File("map.db");
+  const std::string csv = dir.File("run.csv");
+  int rows_at_kill = 0;
+  for (size_t k = 0; k <= kill_rows.size(); ++k) {
+    std::vector<std::string> arguments = {"run", images, "--db", map, "--out", csv};
+    if (k == 0) {
+      arguments.insert(arguments.end(), budget.begin(), budget.end());
+    } else {
+      arguments.push_back("--resume");  // with the map's own parameters
+    }
+    const std::string log = dir.File("log" + std::to_string(k));
+    const pid_t child = Start(arguments, log);
+    if (k < kill_rows.size()) {
+      ASSERT_TRUE(KillAfterRows(child, csv, kill_rows[k])) << "ended before row " << kill_rows[k];
+    } else {
+      int status = 0;
+      waitpid(child, &status, 0);
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << ReadFile(log);
+    }
+    if (k > 0) {
+      // The documented bound: with memory.checkpoint_interval=1, at most 2 images are lost (and
+      // processed again) by a kill.
+      const std::string output = ReadFile(log);
+      const size_t at = output.find("after image ");
+      ASSERT_NE(at, std::string::npos) << output;
+      const int resumed_after = std::stoi(output.substr(at + 12));
+      EXPECT_GE(resumed_after + 1, rows_at_kill - 1) << "rows before the kill: " << rows_at_kill;
+      EXPECT_LE(resumed_after + 1, rows_at_kill + 1);
+    }
+    if (k < kill_rows.size()) {
+      rows_at_kill = CsvRows(csv);
+      EXPECT_EQ(IntegrityCheck(map), "ok") << "after kill " << k;
+    }
+  }
+  std::istringstream resumed(WithoutTimes(ReadFile(csv)));
+  std::istringstream whole(expected);
+  std::string resumed_line;
+  std::string whole_line;
+  for (int line = 1; std::getline(whole, whole_line); ++line) {
+    ASSERT_TRUE(std::getline(resumed, resumed_line)) << "the resumed CSV ends at line " << line;
+    ASSERT_EQ(resumed_line, whole_line) << "line " << line << " (without times) differs";
+  }
+  EXPECT_FALSE(std::getline(resumed, resumed_line)) << "extra line: " << resumed_line;
+}
+
+TEST(ResumeCliTest, UsageAndRefusals) {
+  testing::TempDir dir;
+  SyntheticRouteOptions tiny = ShortRoute();
+  tiny.lap_frames = 12;
+  tiny.detour_frames = 2;
+  tiny.third_lap_frames = 2;
+  SyntheticRoute(tiny).Write(dir.path().string());
+  const std::string images = dir.File("images");
+  const Outcome without_db = Memloop("run " + images + " --resume");
+  EXPECT_EQ(without_db.exit_code, 2) << without_db.output;
+  const Outcome absent = Memloop("run " + images + " --resume --db " + dir.File("absent.db"));
+  EXPECT_EQ(absent.exit_code, 1);
+  EXPECT_TRUE(Contains(absent.output, "absent.db")) << absent.output;
+  ASSERT_EQ(Memloop("run " + images + " --db " + dir.File("map.db")).exit_code, 0);
+  const std::string before = ReadFile(dir.File("map.db"));
+  const Outcome other = Memloop("run " + images + " --resume --db " + dir.File("map.db") +
+                                " --set features.type=orb");
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_TRUE(Contains(other.output, "features.type (map: surf, given: orb)")) << other.output;
+  EXPECT_EQ(ReadFile(dir.File("map.db")), before);
+  // A completed map resumes with nothing left to do.
+  const Outcome done = Memloop("run " + images + " --resume --db " + dir.File("map.db"));
+  EXPECT_EQ(done.exit_code, 0) << done.output;
+  EXPECT_TRUE(Contains(done.output, "images: 0 processed")) << done.output;
+}
+
+}  // namespace
+}  // namespace memloop
