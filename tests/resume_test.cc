@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 #include <thread>
@@ -241,10 +242,14 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
   ASSERT_GT(total, 60);
   ASSERT_TRUE(Contains(ReadFile(dir.File("whole.csv")), ";"));  // loop closures are in it
 
-  // Three kills at random rows, in order; each resumed run is killed again, the last completes.
+  // Kills at random rows, in order (3, or MEMLOOP_TEST_KILLS); each resumed run is killed
+  // again, the last completes. A kill may come as a resumed run starts, before its first image.
+  const char* kills_wanted = std::getenv("MEMLOOP_TEST_KILLS");
+  const int kills = kills_wanted ? std::max(1, std::atoi(kills_wanted)) : 3;
   std::random_device device;
   std::vector<int> kill_rows;
-  for (int k = 0; k < 3; ++k) kill_rows.push_back(10 + static_cast<int>(device() % (total - 30)));
+  for (int k = 0; k < kills; ++k)
+    kill_rows.push_back(10 + static_cast<int>(device() % (total - 30)));
   std::sort(kill_rows.begin(), kill_rows.end());
   const std::string map = dir.File("map.db");
   const std::string csv = dir.File("run.csv");
@@ -268,12 +273,15 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
     if (k > 0) {
       // The documented bound: with memory.checkpoint_interval=1, at most 2 images are lost (and
       // processed again) by a kill.
+      // A run killed as it starts may not have said where it resumes.
       const std::string output = ReadFile(log);
       const size_t at = output.find("after image ");
-      ASSERT_NE(at, std::string::npos) << output;
-      const int resumed_after = std::stoi(output.substr(at + 12));
-      EXPECT_GE(resumed_after + 1, rows_at_kill - 1) << "rows before the kill: " << rows_at_kill;
-      EXPECT_LE(resumed_after + 1, rows_at_kill + 1);
+      ASSERT_TRUE(at != std::string::npos || k < kill_rows.size()) << output;
+      if (at != std::string::npos) {
+        const int resumed_after = std::stoi(output.substr(at + 12));
+        EXPECT_GE(resumed_after + 1, rows_at_kill - 1) << "rows before the kill: " << rows_at_kill;
+        EXPECT_LE(resumed_after + 1, rows_at_kill + 1);
+      }
     }
     if (k < kill_rows.size()) {
       rows_at_kill = CsvRows(csv);
