@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -297,6 +298,42 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
     ASSERT_EQ(resumed_line, whole_line) << "line " << line << " (without times) differs";
   }
   EXPECT_FALSE(std::getline(resumed, resumed_line)) << "extra line: " << resumed_line;
+}
+
+// A map that cannot grow (the file size limit of the process, as a full disk would) stops the
+// run with an error; the file stays at its last checkpoint, and --resume then completes the run
+// with the results of an uninterrupted one.
+TEST(ResumeCliTest, MapWriteFailureStopsTheRunAndTheMapResumes) {
+  testing::TempDir dir;
+  SyntheticRoute(ShortRoute()).Write(dir.path().string());
+  const std::string images = dir.File("images");
+  const std::string settings = " --set memory.time_limit_ms=0 memory.max_wm_locations=30";
+  ASSERT_EQ(Memloop("run " + images + settings + " --out " + dir.File("whole.csv")).exit_code, 0);
+  const std::string map = dir.File("map.db");
+  const std::string csv = dir.File("run.csv");
+  const pid_t child = fork();
+  if (child == 0) {
+    const rlimit limit = {512 * 1024, 512 * 1024};  // bytes per file: the map outgrows it
+    setrlimit(RLIMIT_FSIZE, &limit);
+    signal(SIGXFSZ, SIG_IGN);  // writes past the limit then fail with EFBIG
+    freopen(dir.File("log").c_str(), "w", stdout);
+    dup2(fileno(stdout), fileno(stderr));
+    execl(MEMLOOP_CLI, MEMLOOP_CLI, "run", images.c_str(), "--db", map.c_str(), "--out",
+          csv.c_str(), "--set", "memory.time_limit_ms=0", "memory.max_wm_locations=30", nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  const std::string log = ReadFile(dir.File("log"));
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << log;
+  EXPECT_TRUE(Contains(log, "writing the map failed")) << log;
+  EXPECT_TRUE(Contains(log, "map.db")) << log;
+  EXPECT_LT(CsvRows(csv), CsvRows(dir.File("whole.csv")));
+  EXPECT_EQ(IntegrityCheck(map), "ok");
+  const Outcome resumed = Memloop("run " + images + " --db " + map + " --out " + csv + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(WithoutTimes(ReadFile(csv)), WithoutTimes(ReadFile(dir.File("whole.csv"))));
 }
 
 TEST(ResumeCliTest, UsageAndRefusals) {
