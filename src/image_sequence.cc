@@ -49,8 +49,13 @@ class FolderSequence : public ImageSequence {
 
 class VideoSequence : public ImageSequence {
  public:
-  explicit VideoSequence(const std::string& path) : capture_(path) {
-    if (!capture_.isOpened()) throw InputError(path, "cannot be opened as a video");
+  // FFmpeg only: it reads every common file format, and a file it cannot read gets one clear
+  // line here instead of GStreamer's warnings and critical messages.
+  explicit VideoSequence(const std::string& path) : capture_(path, cv::CAP_FFMPEG) {
+    if (!capture_.isOpened()) {
+      throw InputError(path, "cannot be opened as a video (not an image folder, nor a video "
+                             "file FFmpeg can decode)");
+    }
     frame_count_ = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
   }
 

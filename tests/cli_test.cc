@@ -102,16 +102,19 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
   struct Case {
     std::string arguments;
     std::string message;
+    bool alone = true;  // the error is all the output (no OpenCV, FFmpeg or GStreamer chatter)
   };
   std::filesystem::create_directories(dir_.File("empty"));
   std::filesystem::create_directories(dir_.File("junk"));
   std::ofstream(dir_.File("junk/a.jpg")) << "junk";
   std::ofstream(dir_.File("clip.mp4")) << "not a video";
+  std::ofstream(dir_.File("noise.avi")) << std::string(5000, '\x5a') << "RIFF";
   const std::vector<Case> cases = {
       {"run " + missing, missing + ": no such file or folder"},
       {"run " + dir_.File("empty"), dir_.File("empty") + ": the folder holds no image"},
-      {"run " + dir_.File("junk"), dir_.File("junk") + ": no readable image (1 skipped)"},
+      {"run " + dir_.File("junk"), dir_.File("junk") + ": no readable image (1 skipped)", false},
       {"run " + dir_.File("clip.mp4"), dir_.File("clip.mp4") + ": cannot be opened as a video"},
+      {"run " + dir_.File("noise.avi"), dir_.File("noise.avi") + ": cannot be opened as a video"},
       {"run " + Images() + " --set memory.stm=3", "Unknown parameter 'memory.stm'"},
       {"run " + Images() + " --set filter.loop_threshold=7",
        "Invalid parameter filter.loop_threshold = '7': must be in [0, 1]"},
@@ -121,6 +124,10 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
     EXPECT_NE(outcome.exit_code, 0) << c.arguments;
     EXPECT_TRUE(Contains(outcome.output, "memloop: error: " + c.message)) << c.arguments << "\n"
                                                                           << outcome.output;
+    if (c.alone) {
+      EXPECT_EQ(std::count(outcome.output.begin(), outcome.output.end(), '\n'), 1)
+          << outcome.output;
+    }
   }
 }
 

@@ -2,7 +2,9 @@
 // Subcommands: run, demo, generate, eval, report, params. Exit codes: 0 success; 1 an error of
 // input, map or output ("memloop: error: ..." names the file); 2 a command-line usage error.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "commands.h"
 #include "memloop/errors.h"
@@ -19,6 +21,13 @@ Options OptionsFromAssignments(const std::vector<std::string>& assignments) {
 }  // namespace memloop::cli
 
 int main(int argc, char** argv) {
+  // memloop says itself, in one line, why a video or image cannot be read: OpenCV's and FFmpeg's
+  // own warnings would come first and bury it. OPENCV_LOG_LEVEL / OPENCV_FFMPEG_LOGLEVEL set in
+  // the environment still win, for debugging.
+  if (std::getenv("OPENCV_LOG_LEVEL") == nullptr) {
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  }
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", /*overwrite=*/0);  // AV_LOG_QUIET
   CLI::App app{"memloop: real-time appearance-based loop closure detection (Labbe & Michaud 2011)"};
   app.require_subcommand(1);
   memloop::cli::AddRunCommand(app);
