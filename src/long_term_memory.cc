@@ -323,8 +323,11 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
       committed_.notify_all();
     }
   } catch (const std::exception& error) {
+    // The error is reported under the map's name: drop it from the message if it has it already.
+    std::string what = error.what();
+    if (what.rfind(path_ + ": ", 0) == 0) what.erase(0, path_.size() + 2);
     std::lock_guard<std::mutex> lock(mutex_);
-    writer_failure_ = std::string("writing the map failed: ") + error.what();
+    writer_failure_ = "writing the map failed: " + what;
     committed_.notify_all();
   }
 }
