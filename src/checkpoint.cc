@@ -160,7 +160,7 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   checkpoint.reset_index = first_ || history.build_count != index_build_count_ ||
                            history.point_count < index_points_written_;
   if (checkpoint.reset_index) history = index.History(0);
-  const size_t row_bytes = static_cast<size_t>(index.dim()) * (index.cv_type() == CV_8U ? 1 : 4);
+  const size_t row_bytes = static_cast<size_t>(index.dim()) * CV_ELEM_SIZE(index.cv_type());
   for (size_t k = 0; k < history.point_words.size(); ++k) {
     const unsigned char* row = history.descriptors.ptr<unsigned char>(static_cast<int>(k));
     checkpoint.index_points.push_back({static_cast<long long>(history.first_point + k),
@@ -224,7 +224,7 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
   const std::vector<CheckpointData::Point> points = database.ReadIndexPoints();
   if (points.size() != index.point_count) throw Error("its checkpoint's index points are missing");
   const size_t row_bytes = static_cast<size_t>(dictionary.descriptor_dim()) *
-                           (dictionary.descriptor_cv_type() == CV_8U ? 1 : 4);
+                           CV_ELEM_SIZE(dictionary.descriptor_cv_type());
   index.descriptors.create(static_cast<int>(points.size()), dictionary.descriptor_dim(),
                            dictionary.descriptor_cv_type());
   for (size_t k = 0; k < points.size(); ++k) {

@@ -174,7 +174,7 @@ class Detector::Impl {
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
   // checking that the map was made with the same map-defining parameters.
   void Resume(const std::string& path) {
-    LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+    LtmDatabase database(path, LtmDatabase::Mode::kAttach);  // ltm_ checked the file
     CheckMapParameters(database, options_);
     ResumeState state = ReadCheckpoint(database, memory_.dictionary());
     try {

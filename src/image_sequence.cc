@@ -53,8 +53,9 @@ class VideoSequence : public ImageSequence {
   // line here instead of GStreamer's warnings and critical messages.
   explicit VideoSequence(const std::string& path) : capture_(path, cv::CAP_FFMPEG) {
     if (!capture_.isOpened()) {
-      throw InputError(path, "cannot be opened as a video (not an image folder, nor a video "
-                             "file FFmpeg can decode)");
+      throw InputError(path,
+                       "cannot be opened as a video (not an image folder, nor a video "
+                       "file FFmpeg can decode)");
     }
     frame_count_ = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
   }

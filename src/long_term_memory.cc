@@ -297,7 +297,7 @@ void LongTermMemory::Forget(long long committed, size_t bytes) {
 
 void LongTermMemory::WriterLoop(LtmOptions options) {
   try {
-    LtmDatabase database(path_, LtmDatabase::Mode::kOpen);
+    LtmDatabase database(path_, LtmDatabase::Mode::kAttach);  // reader_ checked the file
     if (options.max_page_count > 0) database.LimitPages(options.max_page_count);
     for (;;) {
       std::deque<Queued> batch;

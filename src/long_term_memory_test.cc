@@ -5,6 +5,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <functional>
+
 #include "memloop/errors.h"
 #include "small_memory.h"
 #include "temp_dir.h"
@@ -42,21 +44,29 @@ TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
 }
 
 // The map survives the process being killed: what was committed (Flush) is in the file.
-TEST(LongTermMemoryTest, SurvivesKill9) {
-  testing::TempDir dir;
-  const std::string path = dir.File("map.db");
+// Runs `body` in a child process that is then killed with SIGKILL, wherever its writer is.
+// True when the child died of that signal.
+bool KilledAfter(const std::function<void()>& body) {
   const pid_t child = fork();
-  ASSERT_GE(child, 0);
+  if (child < 0) return false;
   if (child == 0) {
-    LongTermMemory ltm(path);
-    for (int id = 1; id <= 50; ++id) ltm.Store(MakeLocation(id, {id, id + 1000}));
-    ltm.Flush();
-    for (int id = 51; id <= 2000; ++id) ltm.Store(MakeLocation(id, {id}));  // maybe written
+    body();
     raise(SIGKILL);
   }
   int status = 0;
   waitpid(child, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status));
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+TEST(LongTermMemoryTest, SurvivesKill9) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  ASSERT_TRUE(KilledAfter([&] {
+    LongTermMemory ltm(path);
+    for (int id = 1; id <= 50; ++id) ltm.Store(MakeLocation(id, {id, id + 1000}));
+    ltm.Flush();
+    for (int id = 51; id <= 2000; ++id) ltm.Store(MakeLocation(id, {id}));  // maybe written
+  }));
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
   EXPECT_GE(database.CountLocations(), 50);
   EXPECT_EQ(database.ReadLocation(50)->signature.words, (std::vector<WordId>{50, 1050}));
@@ -191,20 +201,14 @@ TEST(LongTermMemoryTest, CommitsOnlyWholeCheckpoints) {
 TEST(LongTermMemoryTest, KilledWriterLeavesTheFileAtACheckpoint) {
   testing::TempDir dir;
   const std::string path = dir.File("map.db");
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
+  ASSERT_TRUE(KilledAfter([&] {
     LongTermMemory ltm(path);
     for (int id = 1; id <= 200; ++id) {
       ltm.Store(MakeLocation(id, std::vector<WordId>(40, id)));
       ltm.Checkpoint(StateCheckpoint(id));
       if (id % 2) ltm.Store(MakeLocation(1000 + id, {id}));  // after the checkpoint
     }
-    raise(SIGKILL);
-  }
-  int status = 0;
-  waitpid(child, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status));
+  }));
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);
   const auto state = database.ReadState("test");
   ASSERT_TRUE(state.has_value());

@@ -21,7 +21,7 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
     : connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
                                               : SQLITE_OPEN_READWRITE) {
   const bool existed = FileHasContent(path);
-  if (mode == Mode::kOpen && !existed) throw DatabaseError(path, "no memloop map in this file");
+  if (mode != Mode::kCreate && !existed) throw DatabaseError(path, "no memloop map in this file");
   if (existed) CheckIdentity(mode);
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).
@@ -52,9 +52,11 @@ void LtmDatabase::CheckIdentity(Mode mode) {
                                     " is newer than this memloop's (" +
                                     std::to_string(kFormatVersion) + "): upgrade memloop");
   }
-  SqliteStatement check(connection_, "PRAGMA quick_check");
-  const std::string verdict = check.Step() ? check.Text(0) : "no answer";
-  if (verdict != "ok") throw DatabaseError(path(), "the map is damaged (" + verdict + ")");
+  if (mode != Mode::kAttach) {
+    SqliteStatement check(connection_, "PRAGMA quick_check");
+    const std::string verdict = check.Step() ? check.Text(0) : "no answer";
+    if (verdict != "ok") throw DatabaseError(path(), "the map is damaged (" + verdict + ")");
+  }
   if (mode == Mode::kCreate) {
     throw DatabaseError(path(),
                         "already holds a memloop map; a run starts a new map, so choose "

@@ -49,6 +49,8 @@ class LtmDatabase {
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty
     kOpen,    // an existing memloop map, read and written
+    kAttach,  // as kOpen, for a further connection to a map another one has just opened: its
+              // identity is checked, not its integrity again (quick_check reads the whole file)
   };
   // Throws DatabaseError naming the file: not SQLite, not memloop's, newer format, damaged, or
   // (kCreate) already holding a map. A refused file is never written to.

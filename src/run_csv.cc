@@ -35,19 +35,20 @@ constexpr const char* kHeader =
 
 }  // namespace
 
-RunCsvWriter::RunCsvWriter(const std::string& path) : path_(path), out_(path) {
-  if (!out_) throw InputError(path, "cannot write the results file");
+RunCsvWriter::RunCsvWriter(const std::string& path) : path_(path) { Create(); }
+
+void RunCsvWriter::Create() {
+  out_.open(path_);
+  if (!out_) throw InputError(path_, "cannot write the results file");
   out_ << kHeader << '\n';
   out_.flush();
-  if (!out_) throw InputError(path, "writing the results failed (disk full?)");
+  if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
 }
 
 RunCsvWriter::RunCsvWriter(const std::string& path, ImageIndex keep_through) : path_(path) {
   std::ifstream in(path);
   if (!in) {  // nothing to continue: a new CSV
-    out_.open(path);
-    if (!out_) throw InputError(path, "cannot write the results file");
-    out_ << kHeader << '\n';
+    Create();
     return;
   }
   std::string line;

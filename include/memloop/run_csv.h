@@ -25,6 +25,8 @@ class RunCsvWriter {
   void Close();
 
  private:
+  void Create();  // a new file with the header line
+
   std::string path_;
   std::ofstream out_;
 };
