@@ -6,6 +6,7 @@
 #include "bayes_filter.h"
 #include "checkpoint.h"
 #include "consistency.h"
+#include "epipolar_check.h"
 #include "hypothesis.h"
 #include "likelihood.h"
 #include "long_term_memory.h"
@@ -158,14 +159,15 @@ class Detector::Impl {
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
 
-    const LocationId t = CreateLocation(gray, result);                           // III-A
-    Rehearse(t, result);                                                         // III-B, eq. 1
-    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                       // STM -> WM
-    const Likelihood likelihood = ComputeObservation(t, result);                 // eq. 3, 4
-    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);      // eq. 2
-    const Hypothesis hypothesis = SelectLoopClosure(t, neighbourhoods, result);  // III-D
-    RetrieveNeighbours(hypothesis, result);                                      // III-E
-    TransferToLtm(iteration, result);                                            // III-F
+    const LocationId t = CreateLocation(gray, result);                       // III-A
+    Rehearse(t, result);                                                     // III-B, eq. 1
+    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                   // STM -> WM
+    const Likelihood likelihood = ComputeObservation(t, result);             // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Hypothesis hypothesis =
+        SelectLoopClosure(t, likelihood, neighbourhoods, result);  // III-D
+    RetrieveNeighbours(hypothesis, result);                        // III-E
+    TransferToLtm(iteration, hypothesis, result);                  // III-F
     Checkpoint(result);
     Summarize(t, iteration, result);
     return result;
@@ -232,7 +234,10 @@ class Detector::Impl {
 
   Likelihood ComputeObservation(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    return ComputeLikelihood(ScoreWorkingMemory(memory_.at(t).signature, memory_),
+    const Signature& z_t = memory_.at(t).signature;
+    return ComputeLikelihood(options_.filter.likelihood == "tfidf"
+                                 ? ScoreWorkingMemoryTfIdf(z_t, memory_)
+                                 : ScoreWorkingMemory(z_t, memory_),
                              options_.filter.min_sigma_ratio);
   }
 
@@ -246,17 +251,50 @@ class Detector::Impl {
     return neighbourhoods;
   }
 
-  Hypothesis SelectLoopClosure(LocationId t, const Neighbourhoods& neighbourhoods, Result& result) {
+  Hypothesis SelectLoopClosure(LocationId t, const Likelihood& likelihood,
+                               const Neighbourhoods& neighbourhoods, Result& result) {
     ScopedTimer timer(&result.times.selection_ms);
-    const Hypothesis hypothesis =
-        SelectHypothesis(filter_.posterior(), neighbourhoods, options_.filter);
+    FilterOptions filter_options = options_.filter;
+    // WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
+    if (options_.memory.max_wm_locations > 0) {
+      filter_options.min_hypotheses =
+          std::min(filter_options.min_hypotheses, options_.memory.max_wm_locations);
+    }
+    Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
+                                             neighbourhoods, filter_options);
+    RequireSupport(likelihood, hypothesis);
+    Verify(t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
+    result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
     if (hypothesis.id != kNoLocation) result.hypothesis_images = memory_.at(hypothesis.id).images;
     result.virtual_place_probability = filter_.virtual_place();
     AbsorbPastMatches(hypothesis, neighbourhoods);
     if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);
     return hypothesis;
+  }
+
+  // A loop closure says that the image matches L_i: with filter.require_support, the image's own
+  // likelihood for L_i must stand out (eq. 3 above 1, s_i >= mu + sigma); a hypothesis carried
+  // only by the prior (just after leaving a revisited stretch) is not eligible.
+  void RequireSupport(const Likelihood& likelihood, Hypothesis& hypothesis) const {
+    if (!options_.filter.require_support || hypothesis.id == kNoLocation) return;
+    const auto value = likelihood.values.find(hypothesis.id);
+    if (value != likelihood.values.end() && value->second > 1.0) return;
+    hypothesis.eligible = false;
+    hypothesis.accepted = false;
+  }
+
+  // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
+  // T_loop over what verification lets through.
+  void Verify(LocationId t, Hypothesis& hypothesis, Result& result) {
+    if (options_.verification.min_inliers == 0 || !hypothesis.eligible) return;
+    const EpipolarCheck check = CheckEpipolarGeometry(
+        memory_.at(t).signature, memory_.at(hypothesis.id).signature, options_.verification);
+    result.hypothesis_inliers = check.inliers;
+    if (check.passed) return;
+    hypothesis.eligible = false;
+    hypothesis.accepted = false;
   }
 
   // III-D: L_t takes L_i's weight plus one and its neighbour links. L_i stays (its hypothesis
@@ -290,7 +328,7 @@ class Detector::Impl {
     retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
   }
 
-  void TransferToLtm(const Stopwatch& iteration, Result& result) {
+  void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
     ScopedTimer timer(&result.times.transfer_ms);
     const double limit = options_.memory.time_limit_ms;
     TransferTrigger trigger;
@@ -298,7 +336,21 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, memory_, editor_);
+    result.transferred_ids =
+        Transfer(trigger, retrieved_this_iteration_, KeptLast(hypothesis), memory_, editor_);
+  }
+
+  // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
+  // that a place being recognized keeps its neighbours until the filter has decided (memloop;
+  // the paper transfers them by weight and age like any other: memory.protect_hypothesis = 0).
+  std::set<LocationId> KeptLast(const Hypothesis& hypothesis) const {
+    std::set<LocationId> kept;
+    if (!options_.memory.protect_hypothesis || hypothesis.id == kNoLocation) return kept;
+    for (const auto& [id, distance] :
+         memory_.WmNeighbourhood(hypothesis.id, options_.filter.neighbour_range)) {
+      kept.insert(id);
+    }
+    return kept;
   }
 
   void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {

@@ -59,7 +59,7 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
     evaluation.max_iteration_ms = std::max(evaluation.max_iteration_ms, row.iteration_ms);
     if (!row.matched_images.empty()) accepted.push_back({row.image, row.matched_images});
-    if (row.hypothesis_id != kNoLocation) {
+    if (row.hypothesis_id != kNoLocation && row.hypothesis_eligible) {
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
   }

@@ -70,6 +70,19 @@ GroundTruth SmallTruth() {
   return GroundTruth(labels);
 }
 
+// A hypothesis refused whatever T_loop (WM below T_minHyp, failed verification or support) is
+// not a point of the curve: here image 2's false 0.30 no longer hides image 5's true one.
+TEST(EvaluateRunTest, IneligibleHypothesesAreLeftOutOfTheCurve) {
+  std::vector<RunRow> rows = {
+      Row(0, {}, 0, {}),      Row(1, {}, 0.05, {0}),        Row(2, {}, 0.30, {1}),
+      Row(3, {0}, 0.90, {0}), Row(4, {2, 1}, 0.50, {2, 1}), Row(5, {}, 0.30, {2})};
+  rows[2].hypothesis_eligible = false;
+  const RunEvaluation e = EvaluateRun(rows, SmallTruth());
+  ASSERT_EQ(e.curve.size(), 4u);  // 0.9, 0.5, 0.3, 0.05
+  EXPECT_DOUBLE_EQ(e.recall_at_full_precision, 1.0);
+  EXPECT_DOUBLE_EQ(e.threshold_at_full_precision, 0.3);
+}
+
 TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   const std::vector<RunRow> rows = {
       Row(0, {}, 0, {}),

@@ -2,7 +2,7 @@
 
 namespace memloop {
 
-Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior,
+Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options) {
   Hypothesis best;
   double best_own = -1;
@@ -13,13 +13,17 @@ Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior,
     }
   }
   if (best.id == kNoLocation) return best;
-  for (const auto& [neighbour, distance] : neighbourhoods.at(best.id)) {
-    if (distance > options.neighbour_range) continue;
-    const auto found = posterior.find(neighbour);
-    if (found != posterior.end()) best.value += found->second;
+  if (options.hypothesis_value == "loop_mass") {
+    best.value = 1.0 - virtual_place;
+  } else {
+    for (const auto& [neighbour, distance] : neighbourhoods.at(best.id)) {
+      if (distance > options.neighbour_range) continue;
+      const auto found = posterior.find(neighbour);
+      if (found != posterior.end()) best.value += found->second;
+    }
   }
-  best.accepted = best.value > options.loop_threshold &&
-                  static_cast<int>(posterior.size()) >= options.min_hypotheses;
+  best.eligible = static_cast<int>(posterior.size()) >= options.min_hypotheses;
+  best.accepted = best.eligible && best.value > options.loop_threshold;
   return best;
 }
 

@@ -11,7 +11,8 @@ namespace memloop {
 struct Hypothesis {
   LocationId id = kNoLocation;  // highest hypothesis, kNoLocation when WM is empty
   double value = 0;             // its neighbour-summed posterior
-  bool accepted = false;        // value > T_loop and WM holds at least T_minHyp locations
+  bool eligible = false;        // WM holds at least T_minHyp locations: T_loop alone decides
+  bool accepted = false;        // eligible and value > T_loop
 };
 
 // The highest hypothesis is the WM location of highest posterior (ties: the older); its value is
@@ -20,7 +21,8 @@ struct Hypothesis {
 // reads as "the highest of the neighbour sums"; that choice names the centre of the probability
 // mass rather than the best match, so matches lag behind along a path (RTAB-Map, by the same
 // authors, sums around the highest posterior, as here).
-Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior,
+// With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
+Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options);
 
 }  // namespace memloop

@@ -23,6 +23,24 @@ std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memo
   return scores;
 }
 
+std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory) {
+  std::map<LocationId, double> scores;
+  for (LocationId id : memory.working_memory()) scores[id] = 0.0;
+  const double locations = static_cast<double>(memory.size());  // N: STM and WM
+  for (const auto& [word, count] : z_t.Histogram()) {
+    const auto& references = memory.dictionary().References(word);
+    if (references.empty()) continue;
+    const double idf = std::log10(locations / static_cast<double>(references.size()));
+    if (idf <= 0) continue;  // a word every location holds tells nothing
+    for (const auto& [location, occurrences] : references) {
+      const auto score = scores.find(location);
+      if (score == scores.end()) continue;  // STM
+      score->second += occurrences * idf / memory.at(location).signature.size();
+    }
+  }
+  return scores;
+}
+
 Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores, double min_sigma_ratio) {
   Likelihood likelihood;
   likelihood.scores = scores;

@@ -20,6 +20,13 @@ struct Likelihood {
 // with z_t score 0 without being visited).
 std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory);
 
+// tf-idf scores for every WM location j: the sum over the words w of z_t of
+// n_wj / n_j * log10(N / n_w), with n_wj the occurrences of w in z_j, n_j the size of z_j, N the
+// locations in STM and WM and n_w those among them that hold w (Sivic & Zisserman 2003; RTAB-Map's
+// likelihood since 2013). Frequent words weigh less, so a few distinctive shared words stand out
+// above many common ones, which eq. 1 counts alike.
+std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory);
+
 // Eq. 3 and 4 from the scores. Eq. 4, mu/sigma + 1, grows without bound as sigma -> 0 and is
 // undefined at 0. With `min_sigma_ratio` > 0 and at least 2 non-null scores, sigma is taken as
 // at least min_sigma_ratio * mu in eq. 3 and 4, so the virtual place's likelihood is continuous

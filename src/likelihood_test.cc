@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "small_memory.h"
 
 namespace memloop {
@@ -62,6 +64,21 @@ TEST(LikelihoodTest, ScoresOfWorkingMemoryAreEquation1) {
   for (LocationId id : {ids[0], ids[1], ids[2]}) {
     EXPECT_DOUBLE_EQ(scores.at(id), Similarity(z_t, memory.at(id).signature));
   }
+}
+
+// tf-idf by hand: N = 4 locations in memory (3 WM + L_t in STM); z_t = {1, 3, 4, 9}.
+// Word 1: in L1 and L_t, n_w = 2, idf = log10(4/2); word 3: L1, L2, L_t, idf = log10(4/3);
+// word 4: L2, L_t, idf = log10(2); word 9: only L_t (no WM location gains).
+TEST(LikelihoodTest, TfIdfScoresByHand) {
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  const auto ids = testing::AddChain(memory, {{1, 2, 3}, {3, 4}, {5, 6, 7, 8}, {1, 3, 4, 9}});
+  memory.MoveStmOverflowToWm(1);
+  const auto scores = ScoreWorkingMemoryTfIdf(memory.at(ids[3]).signature, memory);
+  ASSERT_EQ(scores.size(), 3u);
+  const double idf2 = std::log10(4.0 / 2), idf3 = std::log10(4.0 / 3);
+  EXPECT_NEAR(scores.at(ids[0]), 1.0 / 3 * idf2 + 1.0 / 3 * idf3, 1e-12);  // words 1, 3 of 3
+  EXPECT_NEAR(scores.at(ids[1]), 1.0 / 2 * idf3 + 1.0 / 2 * idf2, 1e-12);  // words 3, 4 of 2
+  EXPECT_DOUBLE_EQ(scores.at(ids[2]), 0.0);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <set>
 
 #include "memloop/errors.h"
 
@@ -20,16 +21,43 @@ std::string ErrorOf(const std::string& assignment) {
   return "";
 }
 
-TEST(ParamsTest, DefaultsAreThePapersAndValid) {
-  const Options options;
+TEST(ParamsTest, Paper2011PresetIsThePapersAndValid) {
+  const Options options = Options::Paper2011();
   EXPECT_NO_THROW(ValidateOptions(options));
   EXPECT_EQ(FindParameter("memory.stm_size")->Get(options), "25");
+  EXPECT_EQ(FindParameter("surf.upright")->Get(options), "0");
+  EXPECT_EQ(FindParameter("filter.hypothesis_value")->Get(options), "neighbours");
+  EXPECT_EQ(FindParameter("filter.likelihood")->Get(options), "similarity");
+  EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "0");
+  EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "0");
+  EXPECT_EQ(FindParameter("verify.min_inliers")->Get(options), "0");
   EXPECT_EQ(FindParameter("memory.rehearsal_threshold")->Get(options), "0.2");
   EXPECT_EQ(FindParameter("filter.loop_threshold")->Get(options), "0.1");
   EXPECT_EQ(FindParameter("filter.min_hypotheses")->Get(options), "15");
   EXPECT_EQ(FindParameter("memory.max_retrieved")->Get(options), "2");
   EXPECT_EQ(FindParameter("dictionary.kd_trees")->Get(options), "4");
   EXPECT_EQ(FindParameter("dictionary.nndr_ratio")->Get(options), "0.8");
+}
+
+// The defaults differ from the paper only where docs/design.md says so and measures it.
+TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
+  const Options defaults;
+  EXPECT_NO_THROW(ValidateOptions(defaults));
+  const Options paper = Options::Paper2011();
+  std::set<std::string> departures;
+  for (const Parameter& parameter : Parameters()) {
+    if (parameter.Get(defaults) != parameter.Get(paper)) departures.insert(parameter.key);
+  }
+  EXPECT_EQ(departures,
+            (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
+                                   "filter.loop_threshold", "filter.hypothesis_value",
+                                   "filter.require_support"}));
+}
+
+TEST(ParamsTest, PresetsByName) {
+  EXPECT_EQ(Preset("default").memory.stm_size, Options().memory.stm_size);
+  EXPECT_EQ(Preset("paper2011").filter.hypothesis_value, "neighbours");
+  EXPECT_THROW(Preset("paper2013"), ParameterError);
 }
 
 TEST(ParamsTest, EveryParameterIsDescribed) {

@@ -19,7 +19,7 @@ class RetrievalTest : public ::testing::Test {
     TransferTrigger trigger;
     trigger.max_wm_locations = 2;
     trigger.dictionary_size_at_start = memory_.dictionary().size();
-    Transfer(trigger, {ids_[4]}, memory_, map_.editor);
+    Transfer(trigger, {ids_[4]}, {}, memory_, map_.editor);
   }
 
   testing::SmallMap map_;

@@ -29,7 +29,8 @@ std::string Quoted(const std::string& text) {
 
 constexpr const char* kHeader =
     "image,name,location_id,matched_image,matched_location,matched_images,hypothesis_id,"
-    "hypothesis_value,hypothesis_images,virtual_place,rehearsal_merged,features,words,"
+    "hypothesis_value,hypothesis_images,hypothesis_eligible,inliers,virtual_place,rehearsal_merged,"
+    "features,words,"
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred";
 
@@ -90,7 +91,8 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
     out_ << ",,";
   }
   out_ << ',' << result.hypothesis_id << ',' << result.hypothesis_value << ','
-       << Join(result.hypothesis_images) << ',' << result.virtual_place_probability << ','
+       << Join(result.hypothesis_images) << ',' << result.hypothesis_eligible << ','
+       << result.hypothesis_inliers << ',' << result.virtual_place_probability << ','
        << result.rehearsal_merged_id << ',' << result.feature_count << ',' << result.word_count
        << ',' << t.total_ms << ',' << t.signature_ms << ',' << t.rehearsal_ms << ','
        << t.likelihood_ms << ',' << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms
@@ -214,6 +216,9 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
     row.hypothesis_id = static_cast<LocationId>(integer_of("hypothesis_id", kMaxId));
     row.hypothesis_value = real_of("hypothesis_value", 0, 1);
     row.hypothesis_images = list_of("hypothesis_images");
+    // Runs before the column: every hypothesis counted as T_loop's to decide.
+    row.hypothesis_eligible =
+        !column.count("hypothesis_eligible") || integer_of("hypothesis_eligible", 1) == 1;
     for (const auto& [name, images] : {std::pair{"matched_images", &row.matched_images},
                                        std::pair{"hypothesis_images", &row.hypothesis_images}}) {
       for (ImageIndex image : *images) {

@@ -19,11 +19,14 @@ struct TransferTrigger {
 };
 
 // WM locations in the order they would be transferred: lowest weight first, then oldest
-// (smallest id); `immune` ones (retrieved this iteration) never.
-std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune);
+// (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest
+// hypothesis' neighbourhood) only after all others, in the same order among themselves.
+std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
+                                      const std::set<LocationId>& last = {});
 
 // Transfers while the trigger holds (at least one location once triggered). Returns the ids.
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
-                                 const Memory& memory, MapEditor& editor);
+                                 const std::set<LocationId>& last, const Memory& memory,
+                                 MapEditor& editor);
 
 }  // namespace memloop

@@ -31,12 +31,32 @@ TEST_F(TransferTest, LowestWeightFirstThenOldestAndRetrievedAreImmune) {
             (std::vector<LocationId>{ids_[1], ids_[3], ids_[0]}));
 }
 
+// The highest hypothesis' neighbourhood goes after all others, in weight-then-age order itself.
+TEST_F(TransferTest, KeptLastLocationsGoAfterAllOthers) {
+  EXPECT_EQ(TransferOrder(memory_, {}, {ids_[1], ids_[3]}),
+            (std::vector<LocationId>{ids_[2], ids_[0], ids_[1], ids_[3]}));
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 2;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, {ids_[1], ids_[2]}, memory_, editor_),
+            (std::vector<LocationId>{ids_[3], ids_[0]}));
+}
+
+// A budget below the kept-last set still holds: they leave too, last.
+TEST_F(TransferTest, BudgetHoldsEvenOverKeptLastLocations) {
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 1;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, {ids_[1], ids_[2], ids_[3]}, memory_, editor_),
+            (std::vector<LocationId>{ids_[0], ids_[1], ids_[2]}));
+}
+
 TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {
   TransferTrigger trigger;
   trigger.time_exceeded = true;
   // 7 words now; "3 were added this iteration": transfer until 4 remain at most.
   trigger.dictionary_size_at_start = memory_.dictionary().size() - 3;
-  const auto transferred = Transfer(trigger, {}, memory_, editor_);
+  const auto transferred = Transfer(trigger, {}, {}, memory_, editor_);
   // L2 frees words 3, 4 (5 left: not enough), L3 frees 5, 6 (3 left): stop.
   EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[1], ids_[2]}));
   EXPECT_EQ(memory_.dictionary().size(), 3u);
@@ -50,14 +70,14 @@ TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {
   TransferTrigger trigger;
   trigger.time_exceeded = true;
   trigger.dictionary_size_at_start = memory_.dictionary().size();  // nothing added
-  EXPECT_EQ(Transfer(trigger, {}, memory_, editor_).size(), 1u);
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_).size(), 1u);
 }
 
 TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
   TransferTrigger trigger;
   trigger.max_wm_locations = 2;
   trigger.dictionary_size_at_start = memory_.dictionary().size();
-  const auto transferred = Transfer(trigger, {ids_[1]}, memory_, editor_);
+  const auto transferred = Transfer(trigger, {ids_[1]}, {}, memory_, editor_);
   EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L2 was retrieved
   EXPECT_EQ(memory_.working_memory().size(), 2u);
   // L4 shared word 1 with L1: it stays in the dictionary, marked as held by LTM too.
@@ -69,14 +89,14 @@ TEST_F(TransferTest, DictionaryBudget) {
   TransferTrigger trigger;
   trigger.max_dictionary_words = 5;
   trigger.dictionary_size_at_start = memory_.dictionary().size();
-  EXPECT_EQ(Transfer(trigger, {}, memory_, editor_), (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_), (std::vector<LocationId>{ids_[1]}));
   EXPECT_EQ(memory_.dictionary().size(), 5u);
 }
 
 TEST_F(TransferTest, NoTriggerNoTransfer) {
   TransferTrigger trigger;
   trigger.dictionary_size_at_start = 0;
-  EXPECT_TRUE(Transfer(trigger, {}, memory_, editor_).empty());
+  EXPECT_TRUE(Transfer(trigger, {}, {}, memory_, editor_).empty());
 }
 
 }  // namespace

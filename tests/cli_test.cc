@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cli_helpers.h"
+#include "memloop/detector.h"
 #include "memloop/synthetic_route.h"
 #include "short_route.h"
 #include "temp_dir.h"
@@ -42,6 +43,24 @@ TEST_F(CliTest, ParamsListsTheRegistry) {
   EXPECT_TRUE(Contains(table.output, "T_loop"));
   const Outcome json = Memloop("params --json");
   EXPECT_TRUE(Contains(json.output, "\"name\": \"filter.min_hypotheses\""));
+}
+
+// --preset paper2011 starts from the paper's values (its map records them); a wrong name is
+// refused before any file is made.
+TEST_F(CliTest, PresetChoosesTheStartingValues) {
+  const std::string db = dir_.File("paper.db");
+  const Outcome run =
+      Memloop("run " + Images() + " --preset paper2011 --set memory.time_limit_ms=0 --db " + db);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const memloop::Options map = memloop::ReadMapOptions(db);
+  EXPECT_EQ(map.filter.hypothesis_value, "neighbours");
+  EXPECT_EQ(map.memory.stm_size, 25);
+  EXPECT_EQ(map.memory.time_limit_ms, 0);
+  const std::string other = dir_.File("other.db");
+  const Outcome bad = Memloop("run " + Images() + " --preset paper2013 --db " + other);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(Contains(bad.output, "unknown preset 'paper2013'")) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(other));
 }
 
 TEST_F(CliTest, RunWritesOneRowPerImageInNaturalOrder) {

@@ -41,7 +41,8 @@ struct PrecisionRecallPoint {
 // What `memloop eval` reports for a run against ground truth.
 struct RunEvaluation {
   PrecisionRecall accepted;  // the loop closures the run accepted (at its T_loop)
-  // Sweeping the acceptance threshold over every recorded highest hypothesis, highest first;
+  // Sweeping the acceptance threshold over every eligible highest hypothesis (one that T_loop
+  // alone decided: RunRow::hypothesis_eligible), highest first;
   // hypotheses of equal value enter together (one point per distinct value).
   std::vector<PrecisionRecallPoint> curve;
   double recall_at_full_precision = 0;  // the best recall of a point with no false positive

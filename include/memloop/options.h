@@ -22,7 +22,9 @@ struct FeatureOptions {
   int surf_intervals = 4;
   int surf_sample_step = 2;  // pixels, first octave; doubled per octave
   int surf_extended = 0;     // 1: 128-d descriptors
-  int surf_upright = 0;      // 1: U-SURF, no orientation
+  // 1: U-SURF, no orientation (memloop's default: a robot's camera does not roll, and rolled views
+  // of one spot are not the same place; the paper's SURF is 0). docs/real-data.md measures it.
+  int surf_upright = 1;
 };
 
 struct DictionaryOptions {
@@ -46,8 +48,9 @@ struct DictionaryOptions {
 };
 
 struct MemoryOptions {
-  // STM size: the newest locations, excluded from loop closure detection (paper III).
-  int stm_size = 25;
+  // STM size: the newest locations, excluded from loop closure detection (paper III; 25 in
+  // Options::Paper2011()).
+  int stm_size = 20;
   // T_rehearsal: similarity (eq. 1) above which L_c is merged into L_t (paper III-B).
   double rehearsal_threshold = 0.20;
   // T_time in milliseconds: iteration time above which locations are transferred from WM to LTM
@@ -61,14 +64,19 @@ struct MemoryOptions {
   int max_dictionary_words = 0;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
+  // 1: the highest hypothesis' WM neighbourhood (with the locations retrieved for it) is
+  // transferred only after every other WM location (memloop); 0: by weight and age like any
+  // other (the paper).
+  int protect_hypothesis = 1;
   // A resume checkpoint every this many images (checkpoint.h). A crash loses at most
   // 2 * checkpoint_interval images: the last committed checkpoint is at most one behind.
   int checkpoint_interval = 1;
 };
 
 struct FilterOptions {
-  // T_loop: a neighbour-summed hypothesis above this is accepted as a loop closure (III-D).
-  double loop_threshold = 0.10;
+  // T_loop: a hypothesis whose value (hypothesis_value) exceeds this is a loop closure (III-D).
+  // 0.11 (RTAB-Map's default) for memloop's loop_mass value; 0.10 in Options::Paper2011().
+  double loop_threshold = 0.11;
   // T_minHyp: no loop closure is accepted while WM holds fewer locations (III-D).
   int min_hypotheses = 15;
   // p(S_t=-1 | S_t-1=-1): probability that a new location follows a new location (III-C, 1).
@@ -81,6 +89,27 @@ struct FilterOptions {
   // mu/sigma + 1 is continuous as sigma -> 0 (at most 1/ratio + 1 = 51). 0: the paper as written
   // (sigma = 0 gives 2, near ties give any value). docs/design.md has the measurements.
   double min_sigma_ratio = 0.02;
+  // The hypothesis' value compared with T_loop (III-D): "neighbours", the posterior summed over
+  // the highest hypothesis' neighbourhood (the paper), or "loop_mass", 1 - p(S_t = -1), the
+  // probability that L_t closes a loop anywhere in WM (RTAB-Map since 2013).
+  std::string hypothesis_value = "loop_mass";
+  // Scores of L_t against WM (III-C): "similarity", eq. 1 (the paper), or "tfidf", the sum over
+  // shared words of n_wj / n_j * log10(N / n_w) (RTAB-Map since 2013).
+  std::string likelihood = "similarity";
+  // 1: a hypothesis is accepted only when the image's own likelihood for it stands out (eq. 3
+  // above 1), not on the prior alone (memloop); 0: the paper.
+  int require_support = 1;
+};
+
+// Geometric verification of the highest hypothesis (epipolar_check.h): a loop closure is accepted
+// only when the words L_t shares with L_i fit one fundamental matrix with enough inliers.
+struct VerificationOptions {
+  // Inliers needed (0 = no verification, the paper).
+  int min_inliers = 0;
+  // RANSAC: largest distance, in pixels, of a point to its epipolar line to count as an inlier.
+  double ransac_pixels = 3.0;
+  // RANSAC: confidence that an all-inlier sample was drawn.
+  double ransac_confidence = 0.99;
 };
 
 struct Options {
@@ -88,6 +117,15 @@ struct Options {
   DictionaryOptions dictionary;
   MemoryOptions memory;
   FilterOptions filter;
+  VerificationOptions verification;
+
+  // The paper's mechanisms as written (Labbe & Michaud 2011): rotation-invariant SURF, STM 25,
+  // the neighbour-summed hypothesis, transfer by weight and age only. docs/design.md lists what
+  // the defaults change and what each change measured.
+  static Options Paper2011();
 };
+
+// Names accepted by `--preset` and Preset(): "default" and "paper2011".
+Options Preset(const std::string& name);
 
 }  // namespace memloop

@@ -40,6 +40,13 @@ struct Result {
   // Images of the highest hypothesis' location, so that a precision-recall curve can judge every
   // hypothesis against ground truth, accepted or not.
   std::vector<ImageIndex> hypothesis_images;
+  // True when T_loop alone decided the hypothesis: WM held T_minHyp locations and, with
+  // verification on, it passed the epipolar check. A precision-recall curve sweeps T_loop over
+  // eligible hypotheses only (others are refused at any threshold).
+  bool hypothesis_eligible = false;
+  // Epipolar inliers of the highest hypothesis; -1 when not checked (verification off, or WM
+  // below T_minHyp).
+  int hypothesis_inliers = -1;
   // The posterior of the virtual place, p(S_t = -1 | L^t).
   double virtual_place_probability = 1;
 

@@ -40,6 +40,7 @@ struct RunRow {
   LocationId hypothesis_id = kNoLocation;
   double hypothesis_value = 0;
   std::vector<ImageIndex> hypothesis_images;
+  bool hypothesis_eligible = true;  // Result::hypothesis_eligible
   double iteration_ms = 0;
   int wm_size = 0;
   int dictionary_size = 0;

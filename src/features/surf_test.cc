@@ -104,6 +104,7 @@ TEST(SurfExtractorTest, ExtendedAndUpright) {
 // degrees, and their descriptors stay the same.
 TEST(SurfExtractorTest, KeypointsRotateWithTheImage) {
   FeatureOptions options;
+  options.surf_upright = 0;  // oriented SURF (the default is U-SURF)
   options.surf_sample_step = 1;
   const SurfExtractor surf(options);
   const cv::Mat gray = Texture();
@@ -132,8 +133,8 @@ TEST(SurfExtractorTest, KeypointsRotateWithTheImage) {
 }
 
 // Matching under the standard transformations, on the shared images when present, generated
-// textures otherwise. Floors well below what SURF reaches (docs/surf.md) and far above what a
-// broken detector or descriptor gives (a random descriptor scores about 0).
+// textures otherwise. Floors well below what oriented SURF reaches (docs/surf.md) and far above
+// what a broken detector or descriptor gives (a random descriptor scores about 0).
 TEST(SurfExtractorTest, MatchingScoreFloors) {
   std::vector<cv::Mat> images;
   const std::string samples =
@@ -150,7 +151,9 @@ TEST(SurfExtractorTest, MatchingScoreFloors) {
       {"rotation 30 deg", 0.10},       {"scale 0.7", 0.25},
       {"brightness +30%", 0.60},       {"brightness -30%", 0.45},
       {"Gaussian blur sigma 2", 0.25}, {"JPEG quality 40", 0.45}};
-  const SurfExtractor surf{FeatureOptions()};
+  FeatureOptions oriented;
+  oriented.surf_upright = 0;  // a 30-degree rotation is beyond U-SURF by design
+  const SurfExtractor surf{oriented};
   for (const auto& transformation : StandardTransformations(images[0].size())) {
     double score = 0;
     for (const cv::Mat& image : images) {

@@ -17,6 +17,8 @@ void AddEvalCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 
 // Default options with every "--set NAME=VALUE" applied (throws ParameterError).
-Options OptionsFromAssignments(const std::vector<std::string>& assignments);
+// The preset ("default" or "paper2011"), then each NAME=VALUE in order.
+Options OptionsFromAssignments(const std::vector<std::string>& assignments,
+                               const std::string& preset = "default");
 
 }  // namespace memloop::cli

@@ -36,6 +36,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string database;
     std::string out;
     std::vector<std::string> assignments;
+    std::string preset = "default";
     int seed = SyntheticRouteOptions().seed;
     std::string folder;
   };
@@ -44,6 +45,10 @@ void AddDemoCommand(CLI::App& app) {
       "demo", "Run on the built-in synthetic route and score against its exact ground truth");
   demo->add_option("--db", arguments->database, "New map database file; default: temporary");
   demo->add_option("--out", arguments->out, "CSV of per-image results");
+  demo->add_option("--preset", arguments->preset,
+                   "Starting values: default (memloop's measured best) or paper2011 (the paper's "
+                   "mechanisms as written); --set applies on top")
+      ->capture_default_str();
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
   demo->callback([arguments] {
@@ -51,7 +56,7 @@ void AddDemoCommand(CLI::App& app) {
     route_options.seed = arguments->seed;
     const SyntheticRoute route(route_options);
     RouteSequence sequence(route);
-    const Options options = OptionsFromAssignments(arguments->assignments);
+    const Options options = OptionsFromAssignments(arguments->assignments, arguments->preset);
     std::cout << "Synthetic route: " << route.size() << " images of " << route_options.image_width
               << "x" << route_options.image_height << ", " << route.GroundTruthPairs().size()
               << " ground-truth loop pairs\n";

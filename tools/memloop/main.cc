@@ -12,8 +12,9 @@
 
 namespace memloop::cli {
 
-Options OptionsFromAssignments(const std::vector<std::string>& assignments) {
-  Options options;
+Options OptionsFromAssignments(const std::vector<std::string>& assignments,
+                               const std::string& preset) {
+  Options options = Preset(preset);
   for (const std::string& assignment : assignments) SetParameter(options, assignment);
   return options;
 }

@@ -16,6 +16,7 @@ void AddRunCommand(CLI::App& app) {
     std::string database;
     std::string out;
     std::vector<std::string> assignments;
+    std::string preset;
     bool resume = false;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -32,10 +33,17 @@ void AddRunCommand(CLI::App& app) {
                 "change those that do not define the map)")
       ->needs(database);
   run->add_option("--out", arguments->out, "CSV of per-image results");
+  CLI::Option* preset = run->add_option(
+      "--preset", arguments->preset,
+      "Starting values: default (memloop's measured best) or paper2011 (the paper's mechanisms "
+      "as written); --set applies on top");
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
+  preset->excludes(run->get_option("--resume"));
   run->callback([arguments] {
-    Options options = arguments->resume ? ReadMapOptions(arguments->database) : Options();
+    Options options = arguments->resume
+                          ? ReadMapOptions(arguments->database)
+                          : Preset(arguments->preset.empty() ? "default" : arguments->preset);
     for (const std::string& assignment : arguments->assignments) {
       SetParameter(options, assignment);
     }

@@ -1,0 +1,25 @@
+#include "memloop/errors.h"
+#include "memloop/options.h"
+
+namespace memloop {
+
+Options Options::Paper2011() {
+  Options options;
+  options.features.surf_upright = 0;
+  options.memory.stm_size = 25;
+  options.memory.protect_hypothesis = 0;
+  options.filter.hypothesis_value = "neighbours";
+  options.filter.loop_threshold = 0.10;
+  options.filter.likelihood = "similarity";
+  options.filter.require_support = 0;
+  options.verification.min_inliers = 0;
+  return options;
+}
+
+Options Preset(const std::string& name) {
+  if (name == "default") return Options();
+  if (name == "paper2011") return Options::Paper2011();
+  throw ParameterError("--preset", "unknown preset '" + name + "' (default or paper2011)");
+}
+
+}  // namespace memloop
