@@ -40,9 +40,9 @@ a = e["loop_closures"]
 print(f"| {name} | {preset} | {feature} | {budget if budget != '0' else 'none'} | "
       f"{100 * e['recall_at_100_precision']:.1f}% | {e['threshold_at_100_precision']:.3f} | "
       f"{100 * e['precision']:.1f}% | {100 * e['recall']:.1f}% | {a['false_positives']} | "
-      f"{statistics.median(times):.1f} | {max(times):.1f} | {max(int(r['wm_size']) for r in rows)} |")
+      f"{statistics.median(times):.1f} | {max(times):.1f} | {e['table1']['max_wm_size']} |")
+print(e["table1"]["max_wm_size"], file=open(evaluation + ".max_wm", "w"))
 PY
-  echo "$(python3 -c "import csv;print(max(int(r['wm_size']) for r in csv.DictReader(open('$csv'))))")" > "$out/max_wm"
 }
 
 for dir in "$datasets"/*/; do
@@ -51,7 +51,7 @@ for dir in "$datasets"/*/; do
   for preset in $presets; do
     for feature in $features; do
       row "$name" "$preset" "$feature" 0
-      max_wm=$(cat "$out/max_wm")
+      max_wm=$(cat "$out/eval.json.max_wm")
       for percent in 50 25; do
         budget=$(( max_wm * percent / 100 ))
         [ "$budget" -ge 1 ] || budget=1

@@ -81,6 +81,15 @@ void CheckMapParameters(LtmDatabase& database, const Options& options) {
   }
 }
 
+// WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
+FilterOptions SelectionOptions(const Options& options) {
+  FilterOptions selection = options.filter;
+  if (options.memory.max_wm_locations > 0) {
+    selection.min_hypotheses = std::min(selection.min_hypotheses, options.memory.max_wm_locations);
+  }
+  return selection;
+}
+
 }  // namespace
 
 Options ReadMapOptions(const std::string& path) {
@@ -92,6 +101,7 @@ class Detector::Impl {
  public:
   Impl(const Options& options, const std::string& database_path, MapMode mode)
       : options_(Validated(options)),
+        selection_options_(SelectionOptions(options_)),
         extractor_(FeatureExtractor::Create(options.features)),
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), options.dictionary),
         filter_(options.filter),
@@ -254,14 +264,8 @@ class Detector::Impl {
   Hypothesis SelectLoopClosure(LocationId t, const Likelihood& likelihood,
                                const Neighbourhoods& neighbourhoods, Result& result) {
     ScopedTimer timer(&result.times.selection_ms);
-    FilterOptions filter_options = options_.filter;
-    // WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
-    if (options_.memory.max_wm_locations > 0) {
-      filter_options.min_hypotheses =
-          std::min(filter_options.min_hypotheses, options_.memory.max_wm_locations);
-    }
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
-                                             neighbourhoods, filter_options);
+                                             neighbourhoods, selection_options_);
     RequireSupport(likelihood, hypothesis);
     Verify(t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
@@ -281,8 +285,7 @@ class Detector::Impl {
     if (!options_.filter.require_support || hypothesis.id == kNoLocation) return;
     const auto value = likelihood.values.find(hypothesis.id);
     if (value != likelihood.values.end() && value->second > 1.0) return;
-    hypothesis.eligible = false;
-    hypothesis.accepted = false;
+    hypothesis.Refuse();
   }
 
   // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
@@ -292,9 +295,7 @@ class Detector::Impl {
     const EpipolarCheck check = CheckEpipolarGeometry(
         memory_.at(t).signature, memory_.at(hypothesis.id).signature, options_.verification);
     result.hypothesis_inliers = check.inliers;
-    if (check.passed) return;
-    hypothesis.eligible = false;
-    hypothesis.accepted = false;
+    if (!check.passed) hypothesis.Refuse();
   }
 
   // III-D: L_t takes L_i's weight plus one and its neighbour links. L_i stays (its hypothesis
@@ -364,6 +365,7 @@ class Detector::Impl {
   }
 
   Options options_;
+  FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   BayesFilter filter_;

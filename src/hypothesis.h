@@ -10,9 +10,12 @@ namespace memloop {
 
 struct Hypothesis {
   LocationId id = kNoLocation;  // highest hypothesis, kNoLocation when WM is empty
-  double value = 0;             // its neighbour-summed posterior
+  double value = 0;             // compared with T_loop (FilterOptions::hypothesis_value)
   bool eligible = false;        // WM holds at least T_minHyp locations: T_loop alone decides
   bool accepted = false;        // eligible and value > T_loop
+
+  // A check beside T_loop refused it: not accepted at any threshold.
+  void Refuse() { eligible = accepted = false; }
 };
 
 // The highest hypothesis is the WM location of highest posterior (ties: the older); its value is

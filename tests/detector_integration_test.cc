@@ -90,7 +90,8 @@ TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
 }
 
 // Issue 8: recall degrades gracefully as the WM budget shrinks (the highest hypothesis'
-// neighbourhood leaves WM last), where the paper's transfer order fell to 0 at 20 and 14% at 30.
+// neighbourhood leaves WM last): without it recall falls to 0% at 20 and 57.5% at 30 (the paper2011
+// preset: 0% and 14%).
 // Floors are a margin under the measured 72.5% / 96.7% / 96.7% (memloop demo --set
 // memory.max_wm_locations=N). Known gap: at 20 and 30 one image just after a revisited stretch
 // (image 190, first of the second detour) is still accepted: at most one false positive there.

@@ -61,32 +61,23 @@ struct DataSetRun {
   int images = 0;
 };
 
-// Runs every image of `name` (T_time off: the same verdict on any machine) and scores the run
-// like `memloop eval` against its ground_truth.bmp.
+// Runs every image of `name` (T_time off: the same verdict on any machine), writes the run's CSV
+// and scores it as `memloop eval` does, against its ground_truth.bmp.
 DataSetRun RunDataSet(const std::string& name, Options options) {
   const std::string folder = std::string(MEMLOOP_DATASETS) + "/" + name;
   options.memory.time_limit_ms = 0;
   testing::TempDir dir;
-  Detector detector(options, dir.File("map.db"));
-  auto sequence = ImageSequence::Open(folder + "/images");
-  std::vector<RunRow> rows;
-  Frame frame;
-  while (sequence->Next(&frame)) {
-    if (!frame.error.empty()) continue;
-    const Result result = detector.Process(frame.image, frame.index);
-    RunRow row;
-    row.image = frame.index;
-    row.name = frame.name;
-    row.location_id = result.location_id;
-    if (result.HasLoopClosure()) row.matched_images = result.loop_closure_images;
-    row.hypothesis_id = result.hypothesis_id;
-    row.hypothesis_value = result.hypothesis_value;
-    row.hypothesis_images = result.hypothesis_images;
-    row.hypothesis_eligible = result.hypothesis_eligible;
-    row.wm_size = result.wm_size;
-    row.dictionary_size = result.dictionary_size;
-    rows.push_back(std::move(row));
+  {
+    Detector detector(options, dir.File("map.db"));
+    RunCsvWriter csv(dir.File("run.csv"));
+    auto sequence = ImageSequence::Open(folder + "/images");
+    Frame frame;
+    while (sequence->Next(&frame)) {
+      if (frame.error.empty()) csv.Write(frame.name, detector.Process(frame.image, frame.index));
+    }
+    csv.Close();
   }
+  const std::vector<RunRow> rows = ReadRunCsv(dir.File("run.csv"));
   DataSetRun run;
   run.images = static_cast<int>(rows.size());
   const GroundTruth truth =
