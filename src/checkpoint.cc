@@ -80,6 +80,7 @@ constexpr const char* kCounters = "counters";
 constexpr const char* kStm = "stm";
 constexpr const char* kDictionary = "dictionary";
 constexpr const char* kIndex = "index";
+constexpr const char* kIndexPending = "index_pending";  // empty: no background build
 constexpr const char* kFilter = "filter";
 constexpr const char* kPastMatches = "past_matches";
 
@@ -187,6 +188,13 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
       .Put<uint64_t>(history.point_count);
   std::vector<uint64_t> starts(history.batch_starts.begin(), history.batch_starts.end());
   AddState(checkpoint, kIndex, index_state.PutAll(starts).Take());
+  ByteWriter pending;
+  if (history.pending) {
+    pending.Put<uint64_t>(history.pending_point)
+        .Put<int32_t>(history.pending_age)
+        .PutAll(history.pending_words);
+  }
+  AddState(checkpoint, kIndexPending, pending.Take());
   ByteWriter filter_state;
   filter_state.Put(filter.virtual_place()).Put(static_cast<uint64_t>(filter.posterior().size()));
   for (const auto& [id, probability] : filter.posterior()) {
@@ -221,6 +229,16 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
   index.point_count = reader.Get<uint64_t>();
   for (uint64_t start : reader.GetAll<uint64_t>()) index.batch_starts.push_back(start);
   reader.ExpectEnd();
+  // Maps written before background rebuilds have no such entry.
+  const std::optional<std::vector<unsigned char>> pending = database.ReadState(kIndexPending);
+  if (pending && !pending->empty()) {
+    ByteReader pending_reader(*pending, "the checkpoint's pending index build");
+    index.pending = true;
+    index.pending_point = pending_reader.Get<uint64_t>();
+    index.pending_age = pending_reader.Get<int32_t>();
+    index.pending_words = pending_reader.GetAll<WordId>();
+    pending_reader.ExpectEnd();
+  }
   const std::vector<CheckpointData::Point> points = database.ReadIndexPoints();
   if (points.size() != index.point_count) throw Error("its checkpoint's index points are missing");
   const size_t row_bytes = static_cast<size_t>(dictionary.descriptor_dim()) *

@@ -75,7 +75,8 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_TRUE(first.full);
   EXPECT_EQ(first.locations.size(), 3u);
   EXPECT_EQ(first.index_points.size(), 4u);
-  EXPECT_EQ(first.state.size(), 6u);  // counters, stm, dictionary, index, filter, past matches
+  EXPECT_EQ(first.state.size(), 7u);  // counters, stm, dictionary, index (and pending build),
+                                      // filter, past matches
 
   const CheckpointData unchanged = Next();
   EXPECT_FALSE(unchanged.full);

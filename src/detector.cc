@@ -90,6 +90,14 @@ FilterOptions SelectionOptions(const Options& options) {
   return selection;
 }
 
+// With T_time on, runs depend on the machine anyway: a forest rebuilt in the background is used as
+// soon as it is ready, never waited for. With T_time off it is used at a fixed insertion count.
+DictionaryOptions DictionaryOptionsOf(const Options& options) {
+  DictionaryOptions dictionary = options.dictionary;
+  dictionary.rebuild_swap_when_ready = options.memory.time_limit_ms > 0;
+  return dictionary;
+}
+
 }  // namespace
 
 Options ReadMapOptions(const std::string& path) {
@@ -103,7 +111,7 @@ class Detector::Impl {
       : options_(Validated(options)),
         selection_options_(SelectionOptions(options_)),
         extractor_(FeatureExtractor::Create(options.features)),
-        memory_(extractor_->Kind(), extractor_->DescriptorDim(), options.dictionary),
+        memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
         ltm_(database_path,
              mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate),

@@ -45,8 +45,20 @@ PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundT
   return result;
 }
 
-RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth) {
+RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth,
+                          double time_limit_ms) {
   RunEvaluation evaluation;
+  std::vector<double> times;
+  for (const RunRow& row : rows) times.push_back(row.iteration_ms);
+  if (!times.empty()) {
+    std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+    evaluation.median_iteration_ms = times[times.size() / 2];
+  }
+  if (time_limit_ms > 0) {
+    evaluation.time_limit_ms = time_limit_ms;
+    for (const RunRow& row : rows)
+      evaluation.iterations_over_time_limit += row.iteration_ms > time_limit_ms;
+  }
   std::vector<Detection> accepted;
   struct Hypothesis {
     double value;
@@ -63,6 +75,8 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
   }
+  if (time_limit_ms > 0)
+    evaluation.max_over_time_limit = evaluation.max_iteration_ms / time_limit_ms;
   evaluation.accepted = Evaluate(accepted, truth);
   const int loop_images = evaluation.accepted.loop_images;
   std::stable_sort(hypotheses.begin(), hypotheses.end(),

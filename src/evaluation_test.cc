@@ -83,6 +83,25 @@ TEST(EvaluateRunTest, IneligibleHypothesesAreLeftOutOfTheCurve) {
   EXPECT_DOUBLE_EQ(e.threshold_at_full_precision, 0.3);
 }
 
+// Iteration times 0, 10, ..., 60 ms. With T_time 25 ms: 30, 40, 50, 60 are over (4 of 7), the
+// longest is 60 / 25 = 2.4 x T_time; the median is 30 ms.
+TEST(EvaluateRunTest, TimeBoundCountsIterationsOverTheTimeLimit) {
+  std::vector<RunRow> rows;
+  for (int image = 0; image < 7; ++image) rows.push_back(Row(image, {}, 0, {}));
+  const RunEvaluation bounded = EvaluateRun(rows, SmallTruth(), 25);
+  EXPECT_DOUBLE_EQ(bounded.median_iteration_ms, 30);
+  EXPECT_DOUBLE_EQ(bounded.max_iteration_ms, 60);
+  EXPECT_EQ(bounded.iterations_over_time_limit, 4);
+  EXPECT_DOUBLE_EQ(bounded.FractionOverTimeLimit(), 4.0 / 7);
+  EXPECT_DOUBLE_EQ(bounded.max_over_time_limit, 2.4);
+  const RunEvaluation exactly = EvaluateRun(rows, SmallTruth(), 60);  // at T_time is not over
+  EXPECT_EQ(exactly.iterations_over_time_limit, 0);
+  EXPECT_DOUBLE_EQ(exactly.max_over_time_limit, 1.0);
+  const RunEvaluation unbounded = EvaluateRun(rows, SmallTruth());
+  EXPECT_EQ(unbounded.iterations_over_time_limit, 0);
+  EXPECT_DOUBLE_EQ(unbounded.max_over_time_limit, 0);
+}
+
 TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   const std::vector<RunRow> rows = {
       Row(0, {}, 0, {}),

@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <cmath>
 #include <deque>
+#include <future>
+#include <mutex>
 #include <unordered_map>
 
 #include "flann_deterministic.h"
@@ -24,6 +27,20 @@ flann::IndexParams IndexParams(const flann::L2<float>&, const DictionaryOptions&
 flann::IndexParams IndexParams(const flann::Hamming<unsigned char>&,
                                const DictionaryOptions& options) {
   return flann::LshIndexParams(options.lsh_tables, options.lsh_key_bits, options.lsh_probe_level);
+}
+
+// A FLANN index built over `points` with the dictionary's seed. FLANN draws its splits from
+// std::rand, which is process-wide: builds (in the background or not, of any index) take turns so
+// that each draws an unbroken sequence from its seed.
+template <typename Distance>
+std::unique_ptr<flann::Index<Distance>> BuildIndex(
+    const flann::Matrix<typename Distance::ElementType>& points, const DictionaryOptions& options) {
+  static std::mutex build_mutex;
+  const std::lock_guard<std::mutex> lock(build_mutex);
+  flann::seed_random(options.seed);
+  auto index = std::make_unique<flann::Index<Distance>>(points, IndexParams(Distance(), options));
+  index->buildIndex();
+  return index;
 }
 
 // FLANN index over the words, with the words' descriptors owned here: FLANN keeps pointers into
@@ -65,8 +82,20 @@ class FlannWordIndex : public WordIndex {
       return;
     }
     changes_since_build_ += ids.size();
-    if (changes_since_build_ > options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
-      Rebuild();
+    if (pending_) {
+      ++pending_->age;
+      const bool due =
+          options_.rebuild_swap_when_ready
+              ? pending_->index.wait_for(std::chrono::seconds(0)) == std::future_status::ready
+              : pending_->age >= options_.rebuild_delay;
+      if (due) FinishBuild();
+    } else if (changes_since_build_ >
+               options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
+      if (options_.rebuild_delay > 0 && !point_of_word_.empty()) {
+        StartBuild();
+      } else {
+        Rebuild();
+      }
     }
   }
 
@@ -104,11 +133,18 @@ class FlannWordIndex : public WordIndex {
       std::copy_n(index_->getPoint(point), dim(),
                   history.descriptors.ptr<Element>(static_cast<int>(point - history.first_point)));
     }
+    if (pending_) {
+      history.pending = true;
+      history.pending_words = pending_->words;
+      history.pending_point = pending_->snapshot_point;
+      history.pending_age = pending_->age;
+    }
     return history;
   }
 
   void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) override {
     CheckHistory(history);
+    pending_.reset();
     index_.reset();
     buffers_.clear();
     point_of_word_.clear();
@@ -130,8 +166,12 @@ class FlannWordIndex : public WordIndex {
       }
     }
     std::unordered_map<WordId, size_t> latest_point;
+    std::unordered_map<WordId, size_t> latest_point_before;  // the pending build's snapshot
     for (size_t point = 0; point < history.point_count; ++point) {
       latest_point[history.point_words[point]] = point;
+      if (history.pending && point < history.pending_point) {
+        latest_point_before[history.point_words[point]] = point;
+      }
     }
     for (WordId word : live_words) {
       const auto found = latest_point.find(word);
@@ -150,6 +190,7 @@ class FlannWordIndex : public WordIndex {
     size_at_build_ = history.size_at_build;
     changes_since_build_ = history.changes_since_build;
     build_count_ = history.build_count;
+    if (history.pending) ReplayPendingBuild(history, latest_point_before);
   }
 
   std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const override {
@@ -195,13 +236,122 @@ class FlannWordIndex : public WordIndex {
       valid = start < history.point_count &&
               (batch == 0 ? start == 0 : start > history.batch_starts[batch - 1]);
     }
+    valid = valid && (!history.pending ||
+                      (history.pending_point <= history.point_count && history.pending_age >= 0 &&
+                       std::is_sorted(history.pending_words.begin(), history.pending_words.end())));
     if (!valid) throw Error("the dictionary's index history is inconsistent");
   }
 
   void Build(const flann::Matrix<Element>& points) {
-    flann::seed_random(options_.seed);
-    index_ = std::make_unique<Index>(points, IndexParams(Distance(), options_));
-    index_->buildIndex();
+    index_ = BuildIndex<Distance>(points, options_);
+    ++build_count_;
+  }
+
+  // A full build running in a background thread over a snapshot of the live words.
+  struct PendingBuild {
+    std::vector<WordId> words;  // sorted: point k of the new index is words[k]
+    size_t snapshot_point = 0;  // next_point_ when it started
+    int age = 0;                // Adds since
+    std::vector<Element> buffer;
+    std::future<std::unique_ptr<Index>> index;
+  };
+
+  void StartBuild() {
+    std::vector<WordId> words;
+    words.reserve(point_of_word_.size());
+    for (const auto& entry : point_of_word_) words.push_back(entry.first);
+    std::sort(words.begin(), words.end());
+    std::vector<Element> buffer(words.size() * dim());
+    for (size_t i = 0; i < words.size(); ++i) {
+      std::copy_n(Point(words[i]), dim(), buffer.data() + i * dim());
+    }
+    LaunchBuild(std::move(words), std::move(buffer), next_point_, 0);
+  }
+
+  void LaunchBuild(std::vector<WordId> words, std::vector<Element> buffer, size_t snapshot_point,
+                   int age) {
+    pending_ = std::make_unique<PendingBuild>();
+    pending_->words = std::move(words);
+    pending_->snapshot_point = snapshot_point;
+    pending_->age = age;
+    pending_->buffer = std::move(buffer);  // its rows stay where they are for the new index
+    const flann::Matrix<Element> points(pending_->buffer.data(), pending_->words.size(), dim());
+    pending_->index = std::async(std::launch::async, [points, options = options_] {
+      return BuildIndex<Distance>(points, options);
+    });
+  }
+
+  // The snapshot of a checkpoint's pending build: each word's descriptor as it was then.
+  void ReplayPendingBuild(const IndexHistory& history,
+                          const std::unordered_map<WordId, size_t>& latest_point_before) {
+    std::vector<Element> buffer(history.pending_words.size() * dim());
+    for (size_t i = 0; i < history.pending_words.size(); ++i) {
+      const auto found = latest_point_before.find(history.pending_words[i]);
+      if (found == latest_point_before.end()) {
+        throw Error("word " + std::to_string(history.pending_words[i]) +
+                    " of the pending rebuild is not in the dictionary's index history");
+      }
+      std::copy_n(history.descriptors.ptr<Element>(static_cast<int>(found->second)), dim(),
+                  buffer.data() + i * dim());
+    }
+    LaunchBuild(history.pending_words, std::move(buffer), history.pending_point,
+                history.pending_age);
+  }
+
+  // The new index replaces the old one, brought up to date: the words added since the snapshot
+  // (in word order) are added to it, and the snapshot's points of words removed or added again
+  // since are removed. A replay of the history (batch 0 = the snapshot, batch 1 = those words)
+  // builds the same index.
+  void FinishBuild() {
+    std::unique_ptr<PendingBuild> pending = std::move(pending_);
+    std::unique_ptr<Index> index = pending->index.get();  // waits when not built yet
+    const size_t snapshot_size = pending->words.size();
+    std::vector<WordId> added;
+    for (const auto& [word, point] : point_of_word_) {
+      if (point >= pending->snapshot_point) added.push_back(word);
+    }
+    std::sort(added.begin(), added.end());
+    std::vector<Element> added_buffer(added.size() * dim());
+    for (size_t i = 0; i < added.size(); ++i) {
+      std::copy_n(Point(added[i]), dim(), added_buffer.data() + i * dim());
+    }
+    std::unordered_map<WordId, size_t> point_of_word;
+    std::unordered_map<size_t, WordId> word_of_point;
+    for (size_t point = 0; point < snapshot_size; ++point) {
+      const auto found = point_of_word_.find(pending->words[point]);
+      if (found != point_of_word_.end() && found->second < pending->snapshot_point) {
+        point_of_word[pending->words[point]] = point;
+        word_of_point[point] = pending->words[point];
+      }
+    }
+    std::deque<std::vector<Element>> buffers;
+    buffers.push_back(std::move(pending->buffer));
+    batch_starts_ = {0};
+    if (!added.empty()) {
+      buffers.push_back(std::move(added_buffer));
+      index->addPoints(flann::Matrix<Element>(buffers.back().data(), added.size(), dim()),
+                       /*rebuild_threshold=*/1.0f);
+      batch_starts_.push_back(snapshot_size);
+      for (size_t i = 0; i < added.size(); ++i) {
+        point_of_word[added[i]] = snapshot_size + i;
+        word_of_point[snapshot_size + i] = added[i];
+      }
+    }
+    size_t removed = 0;
+    for (size_t point = 0; point < snapshot_size; ++point) {
+      if (word_of_point.count(point)) continue;
+      index->removePoint(point);
+      ++removed;
+    }
+    index_ = std::move(index);
+    buffers_ = std::move(buffers);
+    point_of_word_ = std::move(point_of_word);
+    word_of_point_ = std::move(word_of_point);
+    point_words_ = std::move(pending->words);
+    point_words_.insert(point_words_.end(), added.begin(), added.end());
+    next_point_ = point_words_.size();
+    size_at_build_ = snapshot_size;
+    changes_since_build_ = added.size() + removed;
     ++build_count_;
   }
 
@@ -235,6 +385,7 @@ class FlannWordIndex : public WordIndex {
   }
 
   DictionaryOptions options_;
+  std::unique_ptr<PendingBuild> pending_;  // its destruction waits for the build thread
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   std::unordered_map<WordId, size_t> point_of_word_;

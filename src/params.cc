@@ -63,6 +63,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Leaves visited per nearest-neighbour search (FLANN checks)"),
     Param("dictionary.rebuild_fraction", MEMLOOP_FIELD(dictionary.rebuild_fraction)).AboveRange(0, 100)
         .Help("Rebuild the forest when points added+removed since the last build exceed this fraction of its size then"),
+    Param("dictionary.rebuild_delay", MEMLOOP_FIELD(dictionary.rebuild_delay)).Unit("insertions").Range(0, 100000)
+        .Help("A full rebuild runs in the background and replaces the forest this many insertions (~images) later; 0 = inside the iteration"),
     Param("dictionary.seed", MEMLOOP_FIELD(dictionary.seed)).Range(0, 2147483647)
         .Help("Seed of the forest's random splits (repeatable runs)"),
     Param("dictionary.lsh_tables", MEMLOOP_FIELD(dictionary.lsh_tables)).Range(1, 64)

@@ -163,6 +163,18 @@ std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth
                    kHeight + 160, kHeight);
 }
 
+// Iterations over T_time and the longest as a multiple of it, when the run's T_time is known.
+std::string TimeBoundRows(const RunEvaluation& e) {
+  if (e.time_limit_ms <= 0) return "";
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "<tr><th>iterations over T<sub>time</sub> (%g ms)</th><td>%d (%.2f%%)</td></tr>\n"
+                "<tr><th>max iteration / T<sub>time</sub></th><td>%.2f</td></tr>\n",
+                e.time_limit_ms, e.iterations_over_time_limit, 100 * e.FractionOverTimeLimit(),
+                e.max_over_time_limit);
+  return text;
+}
+
 std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth) {
   char text[2048];
   std::snprintf(
@@ -178,12 +190,15 @@ std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth) {
       "<tr><th>max WM size</th><td>%d locations</td></tr>\n"
       "<tr><th>max dictionary size</th><td>%d words</td></tr>\n"
       "<tr><th>max iteration time</th><td>%.3f s</td></tr>\n"
+      "<tr><th>median iteration time</th><td>%.1f ms</td></tr>\n"
+      "%s"
       "</table>\n",
       e.images, truth.PairCount(), e.accepted.loop_images,
       e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
       e.accepted.false_positives, e.accepted.ignored, 100 * e.accepted.Precision(),
       100 * e.accepted.Recall(), 100 * e.recall_at_full_precision, e.threshold_at_full_precision,
-      e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000);
+      e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000, e.median_iteration_ms,
+      TimeBoundRows(e).c_str());
   return text;
 }
 

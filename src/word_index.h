@@ -27,6 +27,12 @@ struct IndexHistory {
   size_t first_point = 0;            // point_words and descriptors start at this point
   std::vector<WordId> point_words;
   cv::Mat descriptors;  // one row per point from first_point
+  // A full build running in the background (DictionaryOptions::rebuild_delay): the live words
+  // when it started (sorted: its points), point_count then, and the insertions since.
+  bool pending = false;
+  std::vector<WordId> pending_words;
+  size_t pending_point = 0;
+  int pending_age = 0;
 };
 
 struct Neighbour {
@@ -42,8 +48,10 @@ class WordIndex {
                                            const DictionaryOptions& options);
 
   // Copies the rows of `descriptors` as points named `ids`. Points are added to the existing
-  // index; it is rebuilt only when the points added and removed since the last build exceed
-  // rebuild_fraction of its size then.
+  // index. When the points added and removed since the last build exceed rebuild_fraction of its
+  // size then, a new index is built from the live words: in the background when rebuild_delay > 0,
+  // replacing this one, brought up to date, rebuild_delay Adds later (or, with
+  // rebuild_swap_when_ready, at the first Add after it is built).
   virtual void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) = 0;
   virtual void Remove(WordId id) = 0;
   virtual bool Contains(WordId id) const = 0;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <bitset>
+#include <chrono>
+#include <thread>
 
 #include "memloop/errors.h"
 
@@ -33,9 +35,13 @@ std::pair<WordId, float> Nearest(const cv::Mat& query, const cv::Mat& points,
   return best;
 }
 
-TEST(WordIndexTest, KdForestAgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
+// Rebuilds inside the Add (delay 0) and in the background, used 2 Adds later.
+class WordIndexRebuildTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(WordIndexRebuildTest, KdForestAgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
   DictionaryOptions options;
   options.kd_checks = 4000;  // near exact
+  options.rebuild_delay = GetParam();
   const auto forest_owner = WordIndex::Create(DescriptorKind::kFloat, 16, options);
   WordIndex& forest = *forest_owner;
   const cv::Mat points = RandomPoints(3000, 16, 1);
@@ -66,6 +72,70 @@ TEST(WordIndexTest, KdForestAgreesWithBruteForceThroughAddsRemovesAndRebuilds) {
     }
   }
   EXPECT_GE(agree, 196);  // approximate search: allow 2% misses
+}
+
+INSTANTIATE_TEST_SUITE_P(RebuildDelays, WordIndexRebuildTest, ::testing::Values(0, 2));
+
+// 300 points, then batches of 100: the background build starts at the batch that crosses
+// rebuild_fraction and is used `rebuild_delay` Adds later, not before, however fast it ran.
+TEST(WordIndexTest, BackgroundRebuildIsUsedAtItsDelayWithTheWordsSinceItsSnapshot) {
+  DictionaryOptions options;
+  options.rebuild_delay = 3;
+  auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
+  const cv::Mat points = RandomPoints(900, 8, 5);
+  index->Add(Ids(1, 300), points.rowRange(0, 300));
+  for (int batch = 0; batch < 3; ++batch) {  // 300 changes: not above 1.0 x 300 yet
+    index->Add(Ids(301 + 100 * batch, 100), points.rowRange(300 + 100 * batch, 400 + 100 * batch));
+  }
+  index->Remove(2);  // 301 changes: the next Add starts the build
+  index->Add(Ids(601, 100), points.rowRange(600, 700));
+  IndexHistory history = index->History(0);
+  EXPECT_TRUE(history.pending);
+  EXPECT_EQ(history.pending_point, 700u);
+  EXPECT_EQ(history.pending_words.size(), 699u);  // 700 words, 2 removed
+  EXPECT_EQ(history.pending_age, 0);
+  index->Remove(3);                                      // removed after the snapshot
+  index->Add({2}, points.rowRange(1, 2));                // back after the snapshot
+  index->Add(Ids(701, 100), points.rowRange(700, 800));  // age 2: still the old forest
+  EXPECT_EQ(index->build_count(), 1);
+  index->Add(Ids(801, 100), points.rowRange(800, 900));  // age 3: the new one
+  EXPECT_EQ(index->build_count(), 2);
+  history = index->History(0);
+  EXPECT_FALSE(history.pending);
+  // Snapshot (699 words, word 3 removed since), then words 2 and 701-900 in word order.
+  EXPECT_EQ(history.batch_starts, (std::vector<size_t>{0, 699}));
+  EXPECT_EQ(history.point_count, 699u + 201u);
+  EXPECT_EQ(history.size_at_build, 699u);
+  EXPECT_EQ(history.changes_since_build, 201u + 1u);  // and word 3's snapshot point removed
+  EXPECT_EQ(history.point_words[699], 2);
+  EXPECT_EQ(index->size(), 899u);  // 900 words, word 3 removed
+  EXPECT_FALSE(index->Contains(3));
+  const auto found = index->Search(points);
+  for (int row = 0; row < points.rows; ++row) {
+    if (row == 2) continue;
+    EXPECT_EQ(found[row][0].word, row + 1);
+    EXPECT_FLOAT_EQ(found[row][0].distance, 0.0f);
+  }
+  EXPECT_EQ(cv::norm(index->Descriptor(2), points.row(1), cv::NORM_L1), 0.0);
+}
+
+// With T_time on, the new forest is used at the first Add after it is built.
+TEST(WordIndexTest, BackgroundRebuildCanBeUsedAsSoonAsItIsReady) {
+  DictionaryOptions options;
+  options.rebuild_delay = 1000000;
+  options.rebuild_swap_when_ready = true;
+  auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
+  index->Add(Ids(1, 200), RandomPoints(200, 8, 6));
+  index->Add(Ids(201, 201), RandomPoints(201, 8, 7));  // starts the build
+  WordId next = 1000;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (index->build_count() == 1 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    index->Add({next}, RandomPoints(1, 8, next));
+    ++next;
+  }
+  EXPECT_EQ(index->build_count(), 2);
+  EXPECT_EQ(index->size(), 401u + (next - 1000));
 }
 
 TEST(WordIndexTest, KdForestFindsItsOwnPointsAfterRebuildAndKeepsDescriptors) {
@@ -196,6 +266,7 @@ TEST_P(WordIndexReplayTest, ReplayedHistoryGivesTheSameIndex) {
   DictionaryOptions options;
   options.kd_checks = 4;           // approximate: results depend on the trees
   options.rebuild_fraction = 2.0;  // batches accumulate, then one rebuild below
+  options.rebuild_delay = 3;
   auto original = WordIndex::Create(kind, dim, options);
   original->Add(Ids(1, 400), Points(kind, 400, dim, 11));
   original->Add(Ids(401, 300), Points(kind, 300, dim, 12));
@@ -236,6 +307,51 @@ TEST_P(WordIndexReplayTest, ReplayedHistoryGivesTheSameIndex) {
   EXPECT_EQ(replayed->build_count(), original->build_count());
   EXPECT_EQ(original->build_count(), 2);  // the test went through a rebuild
   ExpectSameSearches(*original, *replayed, queries);
+}
+
+// A map checkpointed while a rebuild runs in the background resumes with that build pending, and
+// goes on exactly as the original (the new forest used at the same Add, from the same snapshot).
+TEST_P(WordIndexReplayTest, ReplayDuringABackgroundRebuildGoesOnAsTheOriginal) {
+  const DescriptorKind kind = GetParam();
+  const int dim = kind == DescriptorKind::kFloat ? 16 : 32;
+  DictionaryOptions options;
+  options.kd_checks = 4;
+  options.rebuild_delay = 4;
+  auto original = WordIndex::Create(kind, dim, options);
+  original->Add(Ids(1, 300), Points(kind, 300, dim, 41));
+  original->Add(Ids(301, 301), Points(kind, 301, dim, 42));  // starts the build
+  original->Remove(5);                                       // after the snapshot
+  original->Add(Ids(700, 50), Points(kind, 50, dim, 43));
+  const IndexHistory history = original->History(0);
+  ASSERT_TRUE(history.pending);
+  std::vector<WordId> live;
+  for (WordId id = 1; id <= 601; ++id) {
+    if (id != 5) live.push_back(id);
+  }
+  for (WordId id = 700; id < 750; ++id) live.push_back(id);
+  auto replayed = WordIndex::Create(kind, dim, options);
+  replayed->Replay(history, live);
+  const cv::Mat queries = Points(kind, 300, dim, 44);
+  ExpectSameSearches(*original, *replayed, queries);
+  for (int batch = 0; batch < 4; ++batch) {
+    const cv::Mat more = Points(kind, 20, dim, 50 + batch);
+    original->Add(Ids(800 + 20 * batch, 20), more);
+    replayed->Add(Ids(800 + 20 * batch, 20), more);
+  }
+  EXPECT_EQ(original->build_count(), 2);  // the pending build was used
+  EXPECT_EQ(replayed->build_count(), 2);
+  ExpectSameSearches(*original, *replayed, queries);
+  if (kind == DescriptorKind::kFloat) {  // the swap changed the answers: the test can tell
+    auto never_rebuilt = WordIndex::Create(kind, dim, options);
+    IndexHistory no_pending = history;
+    no_pending.pending = false;
+    never_rebuilt->Replay(no_pending, live);
+    for (int batch = 0; batch < 4; ++batch) {
+      never_rebuilt->Add(Ids(800 + 20 * batch, 20), Points(kind, 20, dim, 50 + batch));
+    }
+    EXPECT_EQ(never_rebuilt->build_count(), 1);
+    EXPECT_GT(DifferentSearches(*original, *never_rebuilt, queries), 0);
+  }
 }
 
 TEST_P(WordIndexReplayTest, HistoryFromAPointHoldsOnlyTheLaterPoints) {

@@ -1,6 +1,7 @@
 // The whole detector on the generated route, whose ground truth is exact.
 #include <gtest/gtest.h>
 
+#include <future>
 #include <map>
 #include <random>
 #include <set>
@@ -59,9 +60,9 @@ TEST(DetectorIntegrationTest, GeneratedRouteAtDefaultParameters) {
   EXPECT_EQ(score.false_positives, 0);
   EXPECT_DOUBLE_EQ(score.Precision(), 1.0);
   EXPECT_GE(score.Recall(), 0.80) << score.true_positives << "/" << score.loop_images;
-  // The first lap and the detours are new places: no loop closure there.
+  // The first lap is new places (but its last frame, back at its start): no loop closure there.
   for (const Result& result : results) {
-    if (result.image_index < SyntheticRouteOptions().lap_frames) {
+    if (result.image_index < SyntheticRouteOptions().lap_frames - 1) {
       EXPECT_FALSE(result.HasLoopClosure()) << result.Brief();
     }
   }
@@ -90,23 +91,41 @@ TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
 }
 
 // Issue 8: recall degrades gracefully as the WM budget shrinks (the highest hypothesis'
-// neighbourhood leaves WM last): without it recall falls to 0% at 20 and 57.5% at 30 (the paper2011
-// preset: 0% and 14%).
-// Floors are a margin under the measured 72.5% / 96.7% / 96.7% (memloop demo --set
-// memory.max_wm_locations=N). Known gap: at 20 and 30 one image just after a revisited stretch
-// (image 190, first of the second detour) is still accepted: at most one false positive there.
+// neighbourhood leaves WM last). Under a small budget a revisit is found only once a retrieval
+// happens to bring its place back from LTM, so one route is a single draw: small differences (the
+// forest's rebuild schedule) move one seed's recall at WM 20 anywhere from 2% to 90%. The floors
+// are on the mean over six routes, a margin under the measured 48% / 80% / 98% (rebuild_delay 30;
+// 45% / 82% / 98% with rebuild_delay 0); the paper2011 preset gives 0% and 14% on seed 7 alone.
+// Known gap: an image just after a revisited stretch (the first of the second detour, image 190)
+// is sometimes accepted, budget or not: at most 3 false positives over the six routes.
+// Command: memloop demo --seed S --set memory.time_limit_ms=0 memory.max_wm_locations=N
 TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets) {
-  const SyntheticRoute route;
-  const std::map<int, std::pair<double, int>> floors = {
-      {20, {0.65, 1}}, {30, {0.90, 1}}, {45, {0.90, 0}}};
+  const std::vector<int> seeds = {1, 2, 3, 4, 5, 7};
+  const std::map<int, double> floors = {{20, 0.30}, {30, 0.65}, {45, 0.90}};
   for (const auto& [budget, floor] : floors) {
-    Options options = Deterministic();
-    options.memory.max_wm_locations = budget;
-    const std::vector<Result> results = RunRoute(route, options);
-    const PrecisionRecall score = Score(route, results);
-    EXPECT_GE(score.Recall(), floor.first) << "budget " << budget;
-    EXPECT_LE(score.false_positives, floor.second) << "budget " << budget;
-    for (const Result& result : results) ASSERT_LE(result.wm_size, budget + 2);  // + retrieved
+    std::vector<std::future<PrecisionRecall>> runs;
+    for (int seed : seeds) {  // two at a time: the machine has 2 cores
+      if (runs.size() >= 2) runs[runs.size() - 2].wait();
+      runs.push_back(std::async(std::launch::async, [seed, budget = budget] {
+        SyntheticRouteOptions route_options;
+        route_options.seed = seed;
+        const SyntheticRoute route(route_options);
+        Options options = Deterministic();
+        options.memory.max_wm_locations = budget;
+        const std::vector<Result> results = RunRoute(route, options, false);
+        for (const Result& result : results) EXPECT_LE(result.wm_size, budget + 2);  // + retrieved
+        return Score(route, results);
+      }));
+    }
+    double recall = 0;
+    int false_positives = 0;
+    for (auto& run : runs) {
+      const PrecisionRecall score = run.get();
+      recall += score.Recall() / seeds.size();
+      false_positives += score.false_positives;
+    }
+    EXPECT_GE(recall, floor) << "budget " << budget;
+    EXPECT_LE(false_positives, 3) << "budget " << budget;
   }
 }
 

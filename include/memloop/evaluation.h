@@ -52,9 +52,19 @@ struct RunEvaluation {
   int max_wm_size = 0;
   int max_dictionary_size = 0;
   double max_iteration_ms = 0;
+  double median_iteration_ms = 0;
+  // The time bound (issue 9), when T_time is given: iterations that took longer than T_time, and
+  // the longest iteration as a multiple of T_time (the paper's worst case: 1.75 s / 1.4 s = 1.25).
+  double time_limit_ms = 0;  // 0: not given, the two below are 0
+  int iterations_over_time_limit = 0;
+  double max_over_time_limit = 0;
+  double FractionOverTimeLimit() const {
+    return images == 0 ? 0.0 : double(iterations_over_time_limit) / images;
+  }
 };
 
-// Rows as read by ReadRunCsv; ground truth over the same sequence.
-RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth);
+// Rows as read by ReadRunCsv; ground truth over the same sequence; the run's T_time (0: none).
+RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth,
+                          double time_limit_ms = 0);
 
 }  // namespace memloop

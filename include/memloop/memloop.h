@@ -9,5 +9,6 @@
 #include "memloop/options.h"
 #include "memloop/params.h"
 #include "memloop/result.h"
+#include "memloop/place_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "memloop/types.h"

@@ -38,6 +38,15 @@ struct DictionaryOptions {
   // The forest is rebuilt when points added and removed since the last build exceed this
   // fraction of its size at that build; otherwise it is updated incrementally.
   double rebuild_fraction = 1.0;
+  // Insertions (about one per image) between the start of a full rebuild and its use. The new
+  // forest is built in a background thread from a snapshot of the words, so no iteration pays for
+  // it; it replaces the old one, brought up to date, this many insertions later (waiting for the
+  // build if it is not done), so the same images give the same words. 0: rebuilt inside the
+  // iteration that crosses rebuild_fraction (a stop-the-world pause, as memloop did before).
+  int rebuild_delay = 30;
+  // Not a parameter: the Detector sets it when T_time is on (runs are then machine-dependent
+  // anyway). The new forest is used as soon as it is built, never waited for.
+  bool rebuild_swap_when_ready = false;
   // Seed of the forest's random split choice, so runs repeat exactly.
   int seed = 42;
   // Binary descriptors (ORB) are indexed by locality-sensitive hashing (FLANN LshIndex):

@@ -24,7 +24,8 @@ struct SyntheticRouteOptions {
   int detour_frames = 30;     // frames of each detour through places seen once
   int third_lap_frames = 40;  // frames of the third lap
   double step_px = 160;       // camera motion between frames, in world pixels
-  // Two frames of different visits show the same place when their views are this close: 0.6 of
+  // Two frames of different visits (or the end and the start of one lap) show the same place when
+  // their views are this close: 0.6 of
   // the image width, i.e. views overlapping by at least 40%.
   double same_place_fraction = 0.6;
 };
@@ -39,7 +40,8 @@ class SyntheticRoute {
   // The same frame, 8-bit gray.
   cv::Mat RenderGray(int index) const;
   // True when frame `query` shows the same place as the earlier frame `match`, seen on another
-  // visit (frames of one pass are neighbours, not loop closures).
+  // visit (frames of one pass are neighbours, not loop closures, except a lap's last frames,
+  // back at its start).
   bool IsLoop(int query, int match) const;
   // The same as ground truth over the route's images (for memloop::Evaluate).
   memloop::GroundTruth Truth() const;
@@ -53,8 +55,8 @@ class SyntheticRoute {
   struct Frame {
     double x;  // world position of the view's left edge (loop coordinate when in_loop)
     bool in_loop;
-    int visit;  // lap number, or -1 on the detour
-    double dx, dy, scale, angle_degrees, gain, bias;
+    int visit;                                        // lap number, or -1 on the detour
+    double dx, dy, scale, angle_degrees, gain, bias;  // the view's jitter
   };
 
   SyntheticRouteOptions options_;

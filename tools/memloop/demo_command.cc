@@ -1,33 +1,81 @@
-// memloop demo: the built-in synthetic route with revisits, run at default parameters, scored
+// memloop demo: the built-in synthetic route with revisits (or, with --places, a long sequence of
+// generated places), run at default parameters, scored
 // against its exact ground truth. memloop generate FOLDER writes the same route as image files.
 #include <cstdio>
 #include <iostream>
 
 #include "commands.h"
 #include "memloop/evaluation.h"
+#include "memloop/place_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "session.h"
 
 namespace memloop::cli {
 namespace {
 
-class RouteSequence : public ImageSequence {
+// Frames rendered on demand from a generated sequence (SyntheticRoute or PlaceSequence).
+template <typename Generated>
+class GeneratedSequence : public ImageSequence {
  public:
-  explicit RouteSequence(const SyntheticRoute& route) : route_(route) {}
+  explicit GeneratedSequence(const Generated& generated) : generated_(generated) {}
   bool Next(Frame* frame) override {
-    if (next_ >= route_.size()) return false;
+    if (next_ >= generated_.size()) return false;
     frame->index = next_;
     frame->name = std::to_string(next_ + 1) + ".png";
-    frame->image = route_.Render(next_++);
+    frame->image = generated_.Render(next_++);
     frame->error.clear();
     return true;
   }
-  int size() const override { return route_.size(); }
+  int size() const override { return generated_.size(); }
 
  private:
-  const SyntheticRoute& route_;
+  const Generated& generated_;
   int next_ = 0;
 };
+
+// Each loop closure with its verdict, the summary, then precision and recall.
+template <typename Generated>
+void PrintScored(const Generated& generated, const SessionReport& report, int loop_images) {
+  int detections = 0;
+  int true_positives = 0;
+  for (const Result& result : report.results) {
+    if (!result.HasLoopClosure()) continue;
+    bool correct = false;
+    for (ImageIndex match : result.loop_closure_images) {
+      correct = correct || generated.IsLoop(result.image_index, match);
+    }
+    ++detections;
+    true_positives += correct;
+    std::cout << result.Brief() << (correct ? "  [true]" : "  [FALSE]") << "\n";
+  }
+  std::cout << Summary(report) << "\n";
+  std::printf("precision %.1f%% (%d/%d), recall %.1f%% (%d/%d images with a loop)\n",
+              detections == 0 ? 100.0 : 100.0 * true_positives / detections, true_positives,
+              detections, loop_images == 0 ? 0.0 : 100.0 * true_positives / loop_images,
+              true_positives, loop_images);
+}
+
+void AddPlaceOptions(CLI::App& command, PlaceSequenceOptions* options) {
+  command.add_option("--places", options->places,
+                     "A long sequence of this many distinct places (issue 9's scale sequence) "
+                     "instead of the demo route");
+  command.add_option("--frames-per-place", options->frames_per_place, "Frames of each visit")
+      ->capture_default_str();
+  command
+      .add_option("--revisit-every", options->revisit_every,
+                  "One revisit of an earlier place after every N new places (0: none)")
+      ->capture_default_str();
+  command
+      .add_option("--min-revisit-age", options->min_revisit_age,
+                  "A revisited place was last seen at least this many images before")
+      ->capture_default_str();
+}
+
+PlaceSequenceOptions NoPlaces() {
+  PlaceSequenceOptions options;
+  options.places = 0;  // the demo route unless --places is given
+  return options;
+}
 
 }  // namespace
 
@@ -39,6 +87,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string preset = "default";
     int seed = SyntheticRouteOptions().seed;
     std::string folder;
+    PlaceSequenceOptions places = NoPlaces();
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* demo = app.add_subcommand(
@@ -51,30 +100,34 @@ void AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
+  AddPlaceOptions(*demo, &arguments->places);
   demo->callback([arguments] {
+    const Options options = OptionsFromAssignments(arguments->assignments, arguments->preset);
+    if (arguments->places.places > 0) {
+      arguments->places.seed = arguments->seed;
+      const PlaceSequence places(arguments->places);
+      GeneratedSequence<PlaceSequence> sequence(places);
+      std::cout << "Generated places: " << places.size() << " images of "
+                << arguments->places.image_width << "x" << arguments->places.image_height << ", "
+                << arguments->places.places << " places, " << places.revisits() << " revisits ("
+                << places.revisit_frames() << " images)\n";
+      const SessionReport report =
+          RunSession(sequence, options, arguments->database, arguments->out);
+      PrintScored(places, report, places.revisit_frames());
+      return;
+    }
     SyntheticRouteOptions route_options;
     route_options.seed = arguments->seed;
     const SyntheticRoute route(route_options);
-    RouteSequence sequence(route);
-    const Options options = OptionsFromAssignments(arguments->assignments, arguments->preset);
+    GeneratedSequence<SyntheticRoute> sequence(route);
     std::cout << "Synthetic route: " << route.size() << " images of " << route_options.image_width
               << "x" << route_options.image_height << ", " << route.GroundTruthPairs().size()
               << " ground-truth loop pairs\n";
     const SessionReport report = RunSession(sequence, options, arguments->database, arguments->out);
-
-    std::vector<Detection> detections;
+    int loop_images = 0;
     const GroundTruth truth = route.Truth();
-    for (const Result& result : report.results) {
-      if (!result.HasLoopClosure()) continue;
-      detections.push_back({result.image_index, result.loop_closure_images});
-      const bool correct = Evaluate({detections.back()}, truth).true_positives == 1;
-      std::cout << result.Brief() << (correct ? "  [true]" : "  [FALSE]") << "\n";
-    }
-    const PrecisionRecall score = Evaluate(detections, truth);
-    std::cout << Summary(report) << "\n";
-    std::printf("precision %.1f%% (%d/%d), recall %.1f%% (%d/%d images with a loop)\n",
-                100 * score.Precision(), score.true_positives, score.detections,
-                100 * score.Recall(), score.true_positives, score.loop_images);
+    for (int image = 0; image < route.size(); ++image) loop_images += truth.HasEarlierMatch(image);
+    PrintScored(route, report, loop_images);
   });
 
   CLI::App* generate = app.add_subcommand(
@@ -83,7 +136,13 @@ void AddDemoCommand(CLI::App& app) {
       ->required();
   generate->add_option("--seed", arguments->seed, "Seed of the generated world")
       ->capture_default_str();
+  AddPlaceOptions(*generate, &arguments->places);
   generate->callback([arguments] {
+    if (arguments->places.places > 0) {
+      arguments->places.seed = arguments->seed;
+      PlaceSequence(arguments->places).Write(arguments->folder);
+      return;
+    }
     SyntheticRouteOptions route_options;
     route_options.seed = arguments->seed;
     SyntheticRoute(route_options).Write(arguments->folder);

@@ -1,4 +1,5 @@
 // memloop eval RUN.csv GROUND_TRUTH [--format auto|mat|image|pairs|matrix] [--json]
+//              [--time-limit-ms T]
 // memloop report RUN.csv GROUND_TRUTH [--format ...] [--out report.html] [--time-limit-ms T]
 #include <cmath>
 #include <cstdio>
@@ -44,6 +45,11 @@ nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
             {"max_wm_size", e.max_wm_size},
             {"max_dictionary_size", e.max_dictionary_size},
             {"max_iteration_s", e.max_iteration_ms / 1000},
+            {"median_iteration_s", e.median_iteration_ms / 1000},
+            {"time_limit_s", e.time_limit_ms / 1000},
+            {"iterations_over_time_limit", e.iterations_over_time_limit},
+            {"percent_over_time_limit", 100 * e.FractionOverTimeLimit()},
+            {"max_over_time_limit", e.max_over_time_limit},
             {"precision_percent", 100 * e.accepted.Precision()},
             {"recall_percent", 100 * e.accepted.Recall()}}},
           {"curve", curve}};
@@ -67,6 +73,13 @@ void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::stri
       "max iteration time %.3f s | precision %.0f%% | recall %.0f%%\n",
       e.images, e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000,
       100 * e.accepted.Precision(), 100 * e.accepted.Recall());
+  if (e.time_limit_ms > 0) {
+    std::printf(
+        "time bound: T_time %g ms | median iteration %.1f ms | over T_time: %d (%.2f%%) | "
+        "max iteration / T_time %.2f\n",
+        e.time_limit_ms, e.median_iteration_ms, e.iterations_over_time_limit,
+        100 * e.FractionOverTimeLimit(), e.max_over_time_limit);
+  }
 }
 
 struct Evaluated {
@@ -77,7 +90,7 @@ struct Evaluated {
 
 // The run's rows and the ground truth over the same images (its size must be the run's).
 Evaluated Evaluate(const std::string& run, const std::string& ground_truth,
-                   const std::string& format) {
+                   const std::string& format, double time_limit_ms) {
   std::vector<RunRow> rows = ReadRunCsv(run);
   int image_count = 0;
   for (const RunRow& row : rows) image_count = std::max(image_count, row.image + 1);
@@ -85,8 +98,23 @@ Evaluated Evaluate(const std::string& run, const std::string& ground_truth,
   for (const RunRow& row : rows) names[row.image] = row.name;
   GroundTruth truth =
       GroundTruth::Load(ground_truth, GroundTruth::ParseFormat(format), names, image_count);
-  RunEvaluation evaluation = EvaluateRun(rows, truth);
+  RunEvaluation evaluation = EvaluateRun(rows, truth, time_limit_ms);
   return {std::move(rows), std::move(truth), std::move(evaluation)};
+}
+
+// The run's T_time, which its CSV does not record.
+void AddTimeLimitOption(CLI::App& command, double* time_limit_ms) {
+  command
+      .add_option("--time-limit-ms", *time_limit_ms,
+                  "T_time of the run (0: none): iterations over it, max / T_time, and the line on "
+                  "the time figure")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            const double value = std::strtod(text.c_str(), nullptr);
+            return std::isfinite(value) && value >= 0 ? std::string()
+                                                      : "must be a finite number >= 0";
+          },
+          "MS>=0"));
 }
 
 }  // namespace
@@ -108,19 +136,10 @@ void AddReportCommand(CLI::App& app) {
   report->add_option("--format", arguments->format, "auto, mat, image, pairs or matrix")
       ->capture_default_str();
   report->add_option("--out", arguments->out, "HTML file to write")->capture_default_str();
-  report
-      ->add_option("--time-limit-ms", arguments->time_limit_ms,
-                   "T_time of the run, drawn on the time figure (0: none)")
-      ->check(CLI::Validator(
-          [](const std::string& text) {
-            const double value = std::strtod(text.c_str(), nullptr);
-            return std::isfinite(value) && value >= 0 ? std::string()
-                                                      : "must be a finite number >= 0";
-          },
-          "MS>=0"));
+  AddTimeLimitOption(*report, &arguments->time_limit_ms);
   report->callback([arguments] {
-    const Evaluated evaluated =
-        Evaluate(arguments->run, arguments->ground_truth, arguments->format);
+    const Evaluated evaluated = Evaluate(arguments->run, arguments->ground_truth, arguments->format,
+                                         arguments->time_limit_ms);
     ReportOptions options;
     options.title = "memloop: " + arguments->run;
     options.time_limit_ms = arguments->time_limit_ms;
@@ -140,6 +159,7 @@ void AddEvalCommand(CLI::App& app) {
     std::string ground_truth;
     std::string format = "auto";
     bool json = false;
+    double time_limit_ms = 0;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* eval = app.add_subcommand(
@@ -151,8 +171,10 @@ void AddEvalCommand(CLI::App& app) {
   eval->add_option("--format", arguments->format, "auto, mat, image, pairs or matrix")
       ->capture_default_str();
   eval->add_flag("--json", arguments->json, "Print JSON");
+  AddTimeLimitOption(*eval, &arguments->time_limit_ms);
   eval->callback([arguments] {
-    const Evaluated e = Evaluate(arguments->run, arguments->ground_truth, arguments->format);
+    const Evaluated e = Evaluate(arguments->run, arguments->ground_truth, arguments->format,
+                                 arguments->time_limit_ms);
     if (arguments->json) {
       std::cout << ToJson(e.evaluation, e.truth).dump(2) << "\n";
     } else {

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Scale (issue 9): a long generated sequence of distinct places with revisits of places last seen
+# MIN_AGE+ images before (only retrieval from LTM can find them), run three ways:
+#   time   T_time set (default: 2x the steady median iteration, measured first on images 1000-2000);
+#   budget a WM budget of BUDGET locations, T_time off (repeatable);
+#   off    memory management off (no T_time, no budget), stopped after OFF_SECONDS: the baseline
+#          that grows.
+# Prints, per run, one row per block of 1000 images (median and max iteration ms, WM size,
+# dictionary size, RSS), then the run's totals; writes the time plot (the paper's Fig. 4) as
+# docs/scale-time.svg. Frames are rendered on the fly (memloop demo --places): nothing on disk but
+# the maps and CSVs. Usage: bench/scale.sh [PLACES] > docs/scale-run.md
+# Environment: RUNS="time budget off", TTIME_MS, BUDGET=500, MIN_AGE=10000, OFF_SECONDS=1800,
+# BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+places=${1:-4550}  # 10 frames each, a revisit after every 10: about 50,000 images
+runs=${RUNS:-time budget off}
+budget=${BUDGET:-500}
+min_age=${MIN_AGE:-10000}
+off_seconds=${OFF_SECONDS:-1800}
+out=${OUT:-$(mktemp -d)}
+mkdir -p "$out"
+sequence=(--places "$places" --frames-per-place 10 --revisit-every 10 --min-revisit-age "$min_age")
+
+echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "sequence: memloop demo ${sequence[*]}"
+
+# One run: memloop demo with the given --set values; RSS sampled every second against the rows
+# written so far.
+run() {  # name seconds(0 = no limit) sets...
+  local name=$1 seconds=$2
+  shift 2
+  rm -f "$out/$name.db"*
+  local limit=()
+  [ "$seconds" != 0 ] && limit=(timeout --signal=KILL "$seconds")
+  "${limit[@]}" /usr/bin/time -f "%M" -o "$out/$name.peak" "$build/memloop" demo "${sequence[@]}" \
+    --set "$@" --db "$out/$name.db" --out "$out/$name.csv" >"$out/$name.txt" 2>/dev/null &
+  local pid=$!
+  : >"$out/$name.rss"
+  while kill -0 "$pid" 2>/dev/null; do
+    local child
+    child=$(pgrep -n -f "memloop demo .*$out/$name.db" || true)
+    if [ -n "$child" ] && [ -r "/proc/$child/status" ] && [ -f "$out/$name.csv" ]; then
+      echo "$(($(wc -l <"$out/$name.csv") - 1)) $(awk '/VmRSS/ {print $2}' "/proc/$child/status")" \
+        >>"$out/$name.rss" 2>/dev/null || true
+    fi
+    sleep 1
+  done
+  wait "$pid" || true
+}
+
+if [[ " $runs " == *" time "* ]] && [ -z "${TTIME_MS:-}" ]; then
+  # Steady median: images 1000-2000 with T_time at 10 s (in effect off while WM is small).
+  saved=$places
+  sequence[1]=200
+  run calibrate 0 memory.time_limit_ms=0
+  sequence[1]=$saved
+  TTIME_MS=$(python3 -c "
+import csv, statistics
+t = [float(r['iteration_ms']) for r in csv.DictReader(open('$out/calibrate.csv'))][1000:2000]
+print(round(2 * statistics.median(t)))")
+  echo "T_time: 2 x the median of images 1000-2000 = $TTIME_MS ms"
+fi
+
+for name in $runs; do
+  case $name in
+    time) run time 0 memory.time_limit_ms="$TTIME_MS" ;;
+    budget) run budget 0 memory.time_limit_ms=0 memory.max_wm_locations="$budget" ;;
+    off) run off "$off_seconds" memory.time_limit_ms=0 ;;
+  esac
+  python3 bench/scale_summary.py "$name" "$out" "${TTIME_MS:-0}"
+done
+
+if [ -f "$out/time.csv" ]; then
+  awk -F, 'NR > 1 {print $1, $16}' "$out/time.csv" >"$out/time.dat"
+  gnuplot <<GP
+set terminal svg size 900,360 font "sans,11"
+set output "docs/scale-time.svg"
+set xlabel "image"
+set ylabel "iteration time (ms)"
+set logscale y
+set key top left
+plot "$out/time.dat" using 1:2 with dots lc rgb "#1f77b4" title "time per image", \
+     $TTIME_MS with lines lw 2 lc rgb "#d62728" title "T_{time} = $TTIME_MS ms"
+GP
+  echo
+  echo "plot: docs/scale-time.svg"
+fi

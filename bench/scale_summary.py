@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Summary of one bench/scale.sh run: per block of 1000 images, then the totals (issue 9)."""
+import csv
+import os
+import re
+import statistics
+import sys
+
+name, folder, time_limit = sys.argv[1], sys.argv[2], float(sys.argv[3])
+rows = list(csv.DictReader(open(os.path.join(folder, name + ".csv"))))
+times = [float(r["iteration_ms"]) for r in rows]
+rss = {}  # rows written -> RSS in MB
+for line in open(os.path.join(folder, name + ".rss")):
+    written, kb = line.split()
+    rss[int(written)] = int(kb) / 1024
+
+print(f"\n### {name}\n")
+print("| images | median ms | max ms | WM | dictionary | RSS MB |")
+print("| --- | ---: | ---: | ---: | ---: | ---: |")
+for start in range(0, len(rows), 1000):
+    block = rows[start:start + 1000]
+    block_times = times[start:start + 1000]
+    block_rss = [mb for written, mb in rss.items() if start < written <= start + 1000]
+    print(f"| {start + 1}-{start + len(block)} | {statistics.median(block_times):.1f} | "
+          f"{max(block_times):.1f} | {block[-1]['wm_size']} | {block[-1]['dictionary_size']} | "
+          f"{max(block_rss) if block_rss else float('nan'):.0f} |")
+
+# Loop closures from the demo's lines: "image I -> location L: loop closure with location M
+# (image J), p=...  [true]"; through retrieval when M was brought back from LTM before.
+retrieved = set()
+retrieved_before = {}
+for r in rows:
+    retrieved_before[int(r["image"])] = set(retrieved)
+    retrieved.update(int(x) for x in r["retrieved"].split(";") if x)
+found = false_positives = through_retrieval = 0
+text = open(os.path.join(folder, name + ".txt")).read()
+for image, location, verdict in re.findall(
+        r"image (\d+) -> location \d+: loop closure with location (\d+) .*\[(true|FALSE)\]", text):
+    if verdict == "FALSE":
+        false_positives += 1
+        continue
+    found += 1
+    through_retrieval += int(location) in retrieved_before.get(int(image), set())
+revisit = re.search(r"(\d+) revisits \((\d+) images\)", text)
+revisit_images = int(revisit.group(2)) if revisit else 0
+# Only the revisit images within the rows written count (the baseline is stopped early).
+peak = open(os.path.join(folder, name + ".peak")).read().split()
+peak_mb = int(peak[-1]) / 1024 if peak and peak[-1].isdigit() else max(rss.values(), default=0)
+db = sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)
+         if f.startswith(name + ".db"))
+first = statistics.median(times[1000:2000]) if len(times) >= 2000 else float("nan")
+last = statistics.median(times[-1000:])
+# RSS growth over the last 10,000 images (the last half when the run is shorter than 20,000).
+tail = 10000 if len(rows) >= 20000 else len(rows) // 2
+rss_tail = [mb for written, mb in sorted(rss.items()) if written >= len(rows) - tail]
+rss_growth = (rss_tail[-1] / rss_tail[0] - 1) * 100 if rss_tail else float("nan")
+print(f"\nimages: {len(rows)}; median iteration: images 1000-2000 {first:.1f} ms, last 1000 "
+      f"{last:.1f} ms (ratio {last / first:.2f}); max {max(times):.1f} ms")
+if time_limit > 0 and name == "time":
+    over = sum(t > time_limit for t in times)
+    print(f"T_time {time_limit:g} ms: {over} iterations over ({100 * over / len(times):.2f}%), "
+          f"max / T_time {max(times) / time_limit:.2f}")
+print(f"peak RSS {peak_mb:.0f} MB; RSS growth over the last {tail} images {rss_growth:.1f}%; "
+      f"map file {db / 1e6:.0f} MB")
+print(f"revisit images found: {found} of {revisit_images} in the sequence "
+      f"({through_retrieval} on locations retrieved from LTM); false positives: {false_positives}")
