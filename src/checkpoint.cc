@@ -4,6 +4,7 @@
 #include <functional>
 #include <string_view>
 #include <type_traits>
+#include <unordered_set>
 
 #include "memloop/errors.h"
 
@@ -154,19 +155,32 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   }
   location_hashes_ = std::move(hashes);
 
-  // The forest: points added since the previous checkpoint, or all of them after a rebuild.
+  // The forest: points added since the previous checkpoint, or all of them after a rebuild, as
+  // (point, word); a word's descriptor (it never changes) is written once, with its first point.
+  // A rebuild thus rewrites word ids only, not the descriptors (issue 9: it was a 250 ms pause at
+  // 160,000 words).
   const Dictionary& dictionary = memory.dictionary();
   const WordIndex& index = dictionary.index();
-  IndexHistory history = index.History(index_points_written_);
+  IndexHistory history = index.History(index_points_written_, /*with_descriptors=*/false);
   checkpoint.reset_index = first_ || history.build_count != index_build_count_ ||
                            history.point_count < index_points_written_;
-  if (checkpoint.reset_index) history = index.History(0);
-  const size_t row_bytes = static_cast<size_t>(index.dim()) * CV_ELEM_SIZE(index.cv_type());
+  if (checkpoint.reset_index) {
+    history = index.History(0, /*with_descriptors=*/false);
+    std::unordered_set<WordId> kept;  // the descriptors the file keeps: those of the new points
+    for (WordId word : history.point_words) {
+      if (!first_ && descriptors_written_.count(word)) kept.insert(word);
+    }
+    descriptors_written_ = std::move(kept);
+  }
   for (size_t k = 0; k < history.point_words.size(); ++k) {
-    const unsigned char* row = history.descriptors.ptr<unsigned char>(static_cast<int>(k));
-    checkpoint.index_points.push_back({static_cast<long long>(history.first_point + k),
-                                       history.point_words[k],
-                                       std::vector<unsigned char>(row, row + row_bytes)});
+    const WordId word = history.point_words[k];
+    const size_t point = history.first_point + k;
+    std::vector<unsigned char> descriptor;
+    if (descriptors_written_.insert(word).second) {
+      const cv::Mat row = index.PointDescriptor(point);
+      descriptor.assign(row.data, row.data + row.total() * row.elemSize());
+    }
+    checkpoint.index_points.push_back({static_cast<long long>(point), word, std::move(descriptor)});
   }
   index_build_count_ = history.build_count;
   index_points_written_ = history.point_count;
@@ -239,7 +253,8 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
     index.pending_words = pending_reader.GetAll<WordId>();
     pending_reader.ExpectEnd();
   }
-  const std::vector<CheckpointData::Point> points = database.ReadIndexPoints();
+  const std::vector<CheckpointData::Point> points =
+      database.ReadIndexPoints();  // descriptors joined
   if (points.size() != index.point_count) throw Error("its checkpoint's index points are missing");
   const size_t row_bytes = static_cast<size_t>(dictionary.descriptor_dim()) *
                            CV_ELEM_SIZE(dictionary.descriptor_cv_type());
@@ -317,11 +332,12 @@ ResumeState ReadState(LtmDatabase& database, const Dictionary& dictionary) {
 }  // namespace
 
 ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) {
-  if (database.format_version() < 2) {
+  if (database.format_version() < LtmDatabase::kFormatVersion) {
     throw DatabaseError(database.path(),
                         "this map was made by an older memloop (map format " +
                             std::to_string(database.format_version()) +
-                            ") that kept no resume checkpoint; it cannot be resumed");
+                            ") whose resume checkpoint this one does not read; it cannot be "
+                            "resumed (its LTM can still be read)");
   }
   if (!database.ReadState(kCounters)) {
     throw DatabaseError(database.path(),

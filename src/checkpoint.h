@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "bayes_filter.h"
@@ -57,6 +58,7 @@ class CheckpointWriter {
   std::unordered_map<std::string, size_t> state_hashes_;
   int index_build_count_ = -1;
   size_t index_points_written_ = 0;
+  std::unordered_set<WordId> descriptors_written_;  // words whose descriptor the file holds
 };
 
 // Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError

@@ -118,7 +118,12 @@ class FlannWordIndex : public WordIndex {
     return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(data)).clone();
   }
 
-  IndexHistory History(size_t from_point) const override {
+  cv::Mat PointDescriptor(size_t point) const override {
+    assert(point < next_point_);
+    return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(index_->getPoint(point))).clone();
+  }
+
+  IndexHistory History(size_t from_point, bool with_descriptors) const override {
     IndexHistory history;
     history.build_count = build_count_;
     history.size_at_build = size_at_build_;
@@ -127,9 +132,11 @@ class FlannWordIndex : public WordIndex {
     history.point_count = next_point_;
     history.first_point = std::min(from_point, next_point_);
     history.point_words.assign(point_words_.begin() + history.first_point, point_words_.end());
-    history.descriptors.create(static_cast<int>(next_point_ - history.first_point), dim(),
-                               cv_type());
-    for (size_t point = history.first_point; point < next_point_; ++point) {
+    if (with_descriptors) {
+      history.descriptors.create(static_cast<int>(next_point_ - history.first_point), dim(),
+                                 cv_type());
+    }
+    for (size_t point = history.first_point; with_descriptors && point < next_point_; ++point) {
       std::copy_n(index_->getPoint(point), dim(),
                   history.descriptors.ptr<Element>(static_cast<int>(point - history.first_point)));
     }
@@ -317,6 +324,8 @@ class FlannWordIndex : public WordIndex {
     }
     std::unordered_map<WordId, size_t> point_of_word;
     std::unordered_map<size_t, WordId> word_of_point;
+    point_of_word.reserve(point_of_word_.size());  // no rehashing: this runs inside an iteration
+    word_of_point.reserve(point_of_word_.size());
     for (size_t point = 0; point < snapshot_size; ++point) {
       const auto found = point_of_word_.find(pending->words[point]);
       if (found != point_of_word_.end() && found->second < pending->snapshot_point) {

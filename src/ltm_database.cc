@@ -88,8 +88,8 @@ void LtmDatabase::CreateSchema() {
       "CREATE TABLE loop_closures(query_image INTEGER NOT NULL, match_image INTEGER NOT NULL,"
       " query_location INTEGER NOT NULL, match_location INTEGER NOT NULL, probability REAL);"
       "CREATE TABLE memory_locations(id INTEGER PRIMARY KEY, data BLOB NOT NULL);"
-      "CREATE TABLE index_points(point INTEGER PRIMARY KEY, word_id INTEGER NOT NULL,"
-      " descriptor BLOB NOT NULL);"
+      "CREATE TABLE index_points(point INTEGER PRIMARY KEY, word_id INTEGER NOT NULL);"
+      "CREATE TABLE index_descriptors(word_id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
       "CREATE TABLE resume_state(key TEXT PRIMARY KEY, value BLOB NOT NULL);"
       "COMMIT;");
 }
@@ -219,6 +219,7 @@ size_t CheckpointData::bytes() const {
 
 void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
+  if (checkpoint.full) Cached("DELETE FROM index_descriptors").Run();
   if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_points").Run();
   for (LocationId id : checkpoint.removed_locations) {
     Cached("DELETE FROM memory_locations WHERE id=?").Bind(1, static_cast<long long>(id)).Run();
@@ -229,12 +230,18 @@ void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
         .BindBlob(2, data.data(), static_cast<int>(data.size()))
         .Run();
   }
-  auto& point =
-      Cached("INSERT OR REPLACE INTO index_points(point, word_id, descriptor) VALUES(?,?,?)");
+  auto& point = Cached("INSERT OR REPLACE INTO index_points(point, word_id) VALUES(?,?)");
+  auto& descriptor =
+      Cached("INSERT OR REPLACE INTO index_descriptors(word_id, descriptor) VALUES(?,?)");
   for (const CheckpointData::Point& row : checkpoint.index_points) {
-    point.Bind(1, row.point)
-        .Bind(2, static_cast<long long>(row.word))
-        .BindBlob(3, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
+    point.Bind(1, row.point).Bind(2, static_cast<long long>(row.word)).Run();
+    if (row.descriptor.empty()) continue;
+    descriptor.Bind(1, static_cast<long long>(row.word))
+        .BindBlob(2, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
+        .Run();
+  }
+  if (checkpoint.reset_index && !checkpoint.full) {  // descriptors of words no point names
+    Cached("DELETE FROM index_descriptors WHERE word_id NOT IN (SELECT word_id FROM index_points)")
         .Run();
   }
   auto& state = Cached("INSERT OR REPLACE INTO resume_state(key, value) VALUES(?,?)");
@@ -260,7 +267,9 @@ std::vector<std::pair<LocationId, std::vector<unsigned char>>> LtmDatabase::Read
 }
 
 std::vector<CheckpointData::Point> LtmDatabase::ReadIndexPoints() {
-  auto& query = Cached("SELECT point, word_id, descriptor FROM index_points ORDER BY point");
+  auto& query = Cached(
+      "SELECT p.point, p.word_id, d.descriptor FROM index_points p"
+      " LEFT JOIN index_descriptors d ON d.word_id = p.word_id ORDER BY p.point");
   std::vector<CheckpointData::Point> rows;
   while (query.Step()) {
     rows.push_back({query.Int(0), static_cast<WordId>(query.Int(1)), query.Blob(2)});

@@ -32,8 +32,8 @@ struct CheckpointData {
   struct Point {
     long long point;
     WordId word;
-    std::vector<unsigned char> descriptor;
-  };
+    std::vector<unsigned char> descriptor;  // written: empty when the file already holds it
+  };                                        // read: always the word's descriptor
   std::vector<Point> index_points;
   std::vector<std::pair<std::string, std::vector<unsigned char>>> state;
 
@@ -44,7 +44,8 @@ class LtmDatabase {
  public:
   static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
   // 1: LTM only. 2: adds the resume checkpoint (memory_locations, index_points, resume_state).
-  static constexpr int kFormatVersion = 2;
+  // 3: index points name their word; its descriptor is in index_descriptors, once per word.
+  static constexpr int kFormatVersion = 3;
 
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty

@@ -62,8 +62,11 @@ class WordIndex {
   virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const = 0;
   // Full builds so far.
   virtual int build_count() const = 0;
-  // The history since the last build, with the points from `from_point` on.
-  virtual IndexHistory History(size_t from_point) const = 0;
+  // The history since the last build, with the points from `from_point` on (their descriptors
+  // left empty unless `with_descriptors`).
+  virtual IndexHistory History(size_t from_point, bool with_descriptors = true) const = 0;
+  // The descriptor of point `point` of the history (removed points too), as one row (a copy).
+  virtual cv::Mat PointDescriptor(size_t point) const = 0;
   // Rebuilds the index exactly as `history` (all points from 0) left it, with `live_words` (the
   // words not removed since) searchable. Throws Error when the history is inconsistent.
   virtual void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) = 0;
