@@ -156,9 +156,9 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   location_hashes_ = std::move(hashes);
 
   // The forest: points added since the previous checkpoint, or all of them after a rebuild, as
-  // (point, word); a word's descriptor (it never changes) is written once, with its first point.
-  // A rebuild thus rewrites word ids only, not the descriptors (issue 9: it was a 250 ms pause at
-  // 160,000 words).
+  // word ids; a word's descriptor (it never changes) is written once, with its first point. A
+  // rebuild thus rewrites one blob of word ids, not the descriptors (issue 9: it was a 250 ms
+  // pause at 160,000 words).
   const Dictionary& dictionary = memory.dictionary();
   const WordIndex& index = dictionary.index();
   IndexHistory history = index.History(index_points_written_, /*with_descriptors=*/false);
@@ -166,11 +166,17 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
                            history.point_count < index_points_written_;
   if (checkpoint.reset_index) {
     history = index.History(0, /*with_descriptors=*/false);
-    std::unordered_set<WordId> kept;  // the descriptors the file keeps: those of the new points
-    for (WordId word : history.point_words) {
-      if (!first_ && descriptors_written_.count(word)) kept.insert(word);
+    if (first_) {  // the file's descriptors all go
+      descriptors_written_.clear();
+      descriptors_to_forget_.clear();
     }
-    descriptors_written_ = std::move(kept);
+    // Descriptors the new points no longer name are deleted later, a few at a time, so that the
+    // writer (which the next checkpoint waits for) is not held up.
+    const std::unordered_set<WordId> named(history.point_words.begin(), history.point_words.end());
+    for (WordId word : descriptors_written_) {
+      if (!named.count(word)) descriptors_to_forget_.insert(word);
+    }
+    for (WordId word : descriptors_to_forget_) descriptors_written_.erase(word);
   }
   for (size_t k = 0; k < history.point_words.size(); ++k) {
     const WordId word = history.point_words[k];
@@ -179,8 +185,15 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
     if (descriptors_written_.insert(word).second) {
       const cv::Mat row = index.PointDescriptor(point);
       descriptor.assign(row.data, row.data + row.total() * row.elemSize());
+      descriptors_to_forget_.erase(word);  // written again: it must stay
     }
     checkpoint.index_points.push_back({static_cast<long long>(point), word, std::move(descriptor)});
+  }
+  constexpr size_t kForgottenPerCheckpoint = 2000;
+  while (!descriptors_to_forget_.empty() &&
+         checkpoint.forgotten_descriptors.size() < kForgottenPerCheckpoint) {
+    checkpoint.forgotten_descriptors.push_back(*descriptors_to_forget_.begin());
+    descriptors_to_forget_.erase(descriptors_to_forget_.begin());
   }
   index_build_count_ = history.build_count;
   index_points_written_ = history.point_count;

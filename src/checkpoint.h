@@ -9,6 +9,7 @@
 
 #include <deque>
 #include <map>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -59,6 +60,7 @@ class CheckpointWriter {
   int index_build_count_ = -1;
   size_t index_points_written_ = 0;
   std::unordered_set<WordId> descriptors_written_;  // words whose descriptor the file holds
+  std::set<WordId> descriptors_to_forget_;          // held, but named by no point any more
 };
 
 // Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError

@@ -158,8 +158,10 @@ TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds)
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
   AddChain(memory, {{1, 2}, {3}});  // builds: {1}, then 2 and 3 added one by one
+  testing::AddWords(memory.dictionary(), {100});  // a word no location holds
   const int builds = memory.dictionary().index().build_count();
   database.WriteCheckpoint(writer.Next(memory, filter, {}, {}));
+  memory.dictionary().Remove(100);  // its descriptor is deleted after the rebuild
   WordId word = 4;
   while (memory.dictionary().index().build_count() == builds) AddChain(memory, {{word++}});
   const CheckpointData rebuilt = writer.Next(memory, filter, {}, {});
@@ -168,9 +170,12 @@ TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds)
   for (const CheckpointData::Point& point : rebuilt.index_points) {
     EXPECT_EQ(point.descriptor.empty(), point.word <= 3) << "word " << point.word;
   }
+  EXPECT_EQ(rebuilt.forgotten_descriptors, (std::vector<WordId>{100}));
   database.WriteCheckpoint(rebuilt);
   Memory reloaded(DescriptorKind::kFloat, 2, options);
   const ResumeState state = ReadCheckpoint(database, reloaded.dictionary());
+  EXPECT_TRUE(state.index.point_words.end() ==
+              std::find(state.index.point_words.begin(), state.index.point_words.end(), 100));
   ASSERT_EQ(state.index.point_words.size(), memory.dictionary().size());
   for (size_t point = 0; point < state.index.point_words.size(); ++point) {
     const cv::Mat expected = memory.dictionary().Descriptor(state.index.point_words[point]);

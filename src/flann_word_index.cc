@@ -86,7 +86,7 @@ class FlannWordIndex : public WordIndex {
       ++pending_->age;
       const bool due =
           options_.rebuild_swap_when_ready
-              ? pending_->index.wait_for(std::chrono::seconds(0)) == std::future_status::ready
+              ? pending_->built.wait_for(std::chrono::seconds(0)) == std::future_status::ready
               : pending_->age >= options_.rebuild_delay;
       if (due) FinishBuild();
     } else if (changes_since_build_ >
@@ -255,12 +255,18 @@ class FlannWordIndex : public WordIndex {
   }
 
   // A full build running in a background thread over a snapshot of the live words.
+  // What the background thread makes: the index over the snapshot and its point <-> word maps.
+  struct Built {
+    std::unique_ptr<Index> index;
+    std::unordered_map<WordId, size_t> point_of_word;
+    std::unordered_map<size_t, WordId> word_of_point;
+  };
   struct PendingBuild {
     std::vector<WordId> words;  // sorted: point k of the new index is words[k]
     size_t snapshot_point = 0;  // next_point_ when it started
     int age = 0;                // Adds since
     std::vector<Element> buffer;
-    std::future<std::unique_ptr<Index>> index;
+    std::future<Built> built;
   };
 
   void StartBuild() {
@@ -283,8 +289,17 @@ class FlannWordIndex : public WordIndex {
     pending_->age = age;
     pending_->buffer = std::move(buffer);  // its rows stay where they are for the new index
     const flann::Matrix<Element> points(pending_->buffer.data(), pending_->words.size(), dim());
-    pending_->index = std::async(std::launch::async, [points, options = options_] {
-      return BuildIndex<Distance>(points, options);
+    const std::vector<WordId>* words_of_points = &pending_->words;  // read-only while it runs
+    pending_->built = std::async(std::launch::async, [points, words_of_points, options = options_] {
+      Built built;
+      built.index = BuildIndex<Distance>(points, options);
+      built.point_of_word.reserve(words_of_points->size());
+      built.word_of_point.reserve(words_of_points->size());
+      for (size_t point = 0; point < words_of_points->size(); ++point) {
+        built.point_of_word[(*words_of_points)[point]] = point;
+        built.word_of_point[point] = (*words_of_points)[point];
+      }
+      return built;
     });
   }
 
@@ -308,60 +323,66 @@ class FlannWordIndex : public WordIndex {
   // The new index replaces the old one, brought up to date: the words added since the snapshot
   // (in word order) are added to it, and the snapshot's points of words removed or added again
   // since are removed. A replay of the history (batch 0 = the snapshot, batch 1 = those words)
-  // builds the same index.
+  // builds the same index. Work here is in the changes since the snapshot, plus one lookup per
+  // snapshot word: the maps were made in the background, the old index is freed there too.
   void FinishBuild() {
     std::unique_ptr<PendingBuild> pending = std::move(pending_);
-    std::unique_ptr<Index> index = pending->index.get();  // waits when not built yet
+    Built built = pending->built.get();  // waits when not built yet
     const size_t snapshot_size = pending->words.size();
-    std::vector<WordId> added;
-    for (const auto& [word, point] : point_of_word_) {
-      if (point >= pending->snapshot_point) added.push_back(word);
+    std::vector<WordId> added;  // live words whose point came after the snapshot
+    for (size_t point = pending->snapshot_point; point < next_point_; ++point) {
+      const WordId word = point_words_[point];
+      const auto found = point_of_word_.find(word);
+      if (found != point_of_word_.end() && found->second == point) added.push_back(word);
     }
     std::sort(added.begin(), added.end());
     std::vector<Element> added_buffer(added.size() * dim());
     for (size_t i = 0; i < added.size(); ++i) {
       std::copy_n(Point(added[i]), dim(), added_buffer.data() + i * dim());
     }
-    std::unordered_map<WordId, size_t> point_of_word;
-    std::unordered_map<size_t, WordId> word_of_point;
-    point_of_word.reserve(point_of_word_.size());  // no rehashing: this runs inside an iteration
-    word_of_point.reserve(point_of_word_.size());
+    size_t removed = 0;  // snapshot points whose word left, or came back after the snapshot
     for (size_t point = 0; point < snapshot_size; ++point) {
       const auto found = point_of_word_.find(pending->words[point]);
-      if (found != point_of_word_.end() && found->second < pending->snapshot_point) {
-        point_of_word[pending->words[point]] = point;
-        word_of_point[point] = pending->words[point];
-      }
+      if (found != point_of_word_.end() && found->second < pending->snapshot_point) continue;
+      built.index->removePoint(point);
+      built.point_of_word.erase(pending->words[point]);
+      built.word_of_point.erase(point);
+      ++removed;
     }
     std::deque<std::vector<Element>> buffers;
     buffers.push_back(std::move(pending->buffer));
     batch_starts_ = {0};
     if (!added.empty()) {
       buffers.push_back(std::move(added_buffer));
-      index->addPoints(flann::Matrix<Element>(buffers.back().data(), added.size(), dim()),
-                       /*rebuild_threshold=*/1.0f);
+      built.index->addPoints(flann::Matrix<Element>(buffers.back().data(), added.size(), dim()),
+                             /*rebuild_threshold=*/1.0f);
       batch_starts_.push_back(snapshot_size);
       for (size_t i = 0; i < added.size(); ++i) {
-        point_of_word[added[i]] = snapshot_size + i;
-        word_of_point[snapshot_size + i] = added[i];
+        built.point_of_word[added[i]] = snapshot_size + i;
+        built.word_of_point[snapshot_size + i] = added[i];
       }
     }
-    size_t removed = 0;
-    for (size_t point = 0; point < snapshot_size; ++point) {
-      if (word_of_point.count(point)) continue;
-      index->removePoint(point);
-      ++removed;
-    }
-    index_ = std::move(index);
-    buffers_ = std::move(buffers);
-    point_of_word_ = std::move(point_of_word);
-    word_of_point_ = std::move(word_of_point);
+    Retire();
+    index_.swap(built.index);
+    buffers_.swap(buffers);
+    point_of_word_.swap(built.point_of_word);
+    word_of_point_.swap(built.word_of_point);
+    retired_ = std::async(std::launch::async,
+                          [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
+                            old.index.reset();  // the old forest and maps, freed off the iteration
+                            old_buffers.clear();
+                          });
     point_words_ = std::move(pending->words);
     point_words_.insert(point_words_.end(), added.begin(), added.end());
     next_point_ = point_words_.size();
     size_at_build_ = snapshot_size;
     changes_since_build_ = added.size() + removed;
     ++build_count_;
+  }
+
+  // Waits for the previous old forest to be freed (long done, in practice).
+  void Retire() {
+    if (retired_.valid()) retired_.get();
   }
 
   // A new index over the live points, in word order so the same history gives the same index.
@@ -395,6 +416,7 @@ class FlannWordIndex : public WordIndex {
 
   DictionaryOptions options_;
   std::unique_ptr<PendingBuild> pending_;  // its destruction waits for the build thread
+  std::future<void> retired_;              // the old forest being freed after a swap
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   std::unordered_map<WordId, size_t> point_of_word_;

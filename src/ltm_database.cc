@@ -2,6 +2,10 @@
 
 #include <sys/stat.h>
 
+#include <cassert>
+#include <cstring>
+#include <unordered_map>
+
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -88,7 +92,7 @@ void LtmDatabase::CreateSchema() {
       "CREATE TABLE loop_closures(query_image INTEGER NOT NULL, match_image INTEGER NOT NULL,"
       " query_location INTEGER NOT NULL, match_location INTEGER NOT NULL, probability REAL);"
       "CREATE TABLE memory_locations(id INTEGER PRIMARY KEY, data BLOB NOT NULL);"
-      "CREATE TABLE index_points(point INTEGER PRIMARY KEY, word_id INTEGER NOT NULL);"
+      "CREATE TABLE index_chunks(first_point INTEGER PRIMARY KEY, words BLOB NOT NULL);"
       "CREATE TABLE index_descriptors(word_id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
       "CREATE TABLE resume_state(key TEXT PRIMARY KEY, value BLOB NOT NULL);"
       "COMMIT;");
@@ -220,7 +224,7 @@ size_t CheckpointData::bytes() const {
 void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
   if (checkpoint.full) Cached("DELETE FROM index_descriptors").Run();
-  if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_points").Run();
+  if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_chunks").Run();
   for (LocationId id : checkpoint.removed_locations) {
     Cached("DELETE FROM memory_locations WHERE id=?").Bind(1, static_cast<long long>(id)).Run();
   }
@@ -230,18 +234,31 @@ void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
         .BindBlob(2, data.data(), static_cast<int>(data.size()))
         .Run();
   }
-  auto& point = Cached("INSERT OR REPLACE INTO index_points(point, word_id) VALUES(?,?)");
+  // The index points of this checkpoint (consecutive) as one row of word ids: a rebuild rewrites
+  // one blob, not a row per point.
+  if (!checkpoint.index_points.empty()) {
+    std::vector<int32_t> words;
+    words.reserve(checkpoint.index_points.size());
+    for (const CheckpointData::Point& row : checkpoint.index_points) {
+      assert(row.point ==
+             checkpoint.index_points.front().point + static_cast<long long>(words.size()));
+      words.push_back(row.word);
+    }
+    Cached("INSERT OR REPLACE INTO index_chunks(first_point, words) VALUES(?,?)")
+        .Bind(1, checkpoint.index_points.front().point)
+        .BindBlob(2, words.data(), static_cast<int>(words.size() * sizeof(int32_t)))
+        .Run();
+  }
+  auto& forget = Cached("DELETE FROM index_descriptors WHERE word_id=?");
+  for (WordId word : checkpoint.forgotten_descriptors) {
+    forget.Bind(1, static_cast<long long>(word)).Run();
+  }
   auto& descriptor =
       Cached("INSERT OR REPLACE INTO index_descriptors(word_id, descriptor) VALUES(?,?)");
   for (const CheckpointData::Point& row : checkpoint.index_points) {
-    point.Bind(1, row.point).Bind(2, static_cast<long long>(row.word)).Run();
     if (row.descriptor.empty()) continue;
     descriptor.Bind(1, static_cast<long long>(row.word))
         .BindBlob(2, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
-        .Run();
-  }
-  if (checkpoint.reset_index && !checkpoint.full) {  // descriptors of words no point names
-    Cached("DELETE FROM index_descriptors WHERE word_id NOT IN (SELECT word_id FROM index_points)")
         .Run();
   }
   auto& state = Cached("INSERT OR REPLACE INTO resume_state(key, value) VALUES(?,?)");
@@ -267,14 +284,37 @@ std::vector<std::pair<LocationId, std::vector<unsigned char>>> LtmDatabase::Read
 }
 
 std::vector<CheckpointData::Point> LtmDatabase::ReadIndexPoints() {
-  auto& query = Cached(
-      "SELECT p.point, p.word_id, d.descriptor FROM index_points p"
-      " LEFT JOIN index_descriptors d ON d.word_id = p.word_id ORDER BY p.point");
   std::vector<CheckpointData::Point> rows;
-  while (query.Step()) {
-    rows.push_back({query.Int(0), static_cast<WordId>(query.Int(1)), query.Blob(2)});
+  auto& chunks = Cached("SELECT first_point, words FROM index_chunks ORDER BY first_point");
+  while (chunks.Step()) {
+    const long long first = chunks.Int(0);
+    const std::vector<unsigned char> bytes = chunks.Blob(1);
+    if (first != static_cast<long long>(rows.size()) || bytes.size() % sizeof(int32_t) != 0) {
+      chunks.Reset();
+      throw DatabaseError(
+          path(), "the checkpoint's index chunk at point " + std::to_string(first) + " is damaged");
+    }
+    for (size_t k = 0; k < bytes.size() / sizeof(int32_t); ++k) {
+      int32_t word = 0;
+      std::memcpy(&word, bytes.data() + k * sizeof(int32_t), sizeof(int32_t));
+      rows.push_back({static_cast<long long>(rows.size()), word, {}});
+    }
   }
-  query.Reset();
+  chunks.Reset();
+  auto& descriptor = Cached("SELECT descriptor FROM index_descriptors WHERE word_id=?");
+  std::unordered_map<WordId, std::vector<unsigned char>> descriptors;
+  for (CheckpointData::Point& row : rows) {
+    auto found = descriptors.find(row.word);
+    if (found == descriptors.end()) {
+      descriptor.Bind(1, static_cast<long long>(row.word));
+      found = descriptors
+                  .emplace(row.word,
+                           descriptor.Step() ? descriptor.Blob(0) : std::vector<unsigned char>())
+                  .first;
+      descriptor.Reset();
+    }
+    row.descriptor = found->second;  // empty when missing: the reader refuses it
+  }
   return rows;
 }
 

@@ -34,7 +34,9 @@ struct CheckpointData {
     WordId word;
     std::vector<unsigned char> descriptor;  // written: empty when the file already holds it
   };                                        // read: always the word's descriptor
-  std::vector<Point> index_points;
+  std::vector<Point> index_points;          // consecutive points
+  // Descriptors of words no index point names any more, deleted a few thousand per checkpoint.
+  std::vector<WordId> forgotten_descriptors;
   std::vector<std::pair<std::string, std::vector<unsigned char>>> state;
 
   size_t bytes() const;
@@ -44,7 +46,8 @@ class LtmDatabase {
  public:
   static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
   // 1: LTM only. 2: adds the resume checkpoint (memory_locations, index_points, resume_state).
-  // 3: index points name their word; its descriptor is in index_descriptors, once per word.
+  // 3: index points as chunks of word ids (index_chunks); each word's descriptor once
+  // (index_descriptors).
   static constexpr int kFormatVersion = 3;
 
   enum class Mode {
