@@ -232,6 +232,7 @@ class Detector::Impl {
 
   void WriteCheckpoint() {
     ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_));
+    memory_.ClearChanged();
   }
 
   LocationId CreateLocation(const cv::Mat& gray, Result& result) {
@@ -349,7 +350,8 @@ class Detector::Impl {
     // iteration, not only its part up to here, stays under T_time (issue 9).
     const bool checkpoints = counters_.images_processed % options_.memory.checkpoint_interval == 0;
     trigger.time_exceeded =
-        limit > 0 && iteration.ElapsedMs() + (checkpoints ? last_checkpoint_ms_ : 0) > limit;
+        TimeExceeded(iteration.ElapsedMs(), checkpoints ? last_checkpoint_ms_ : 0, limit,
+                     options_.memory.time_target);
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;

@@ -29,6 +29,7 @@ Location& Memory::AddToStm(Signature signature, ImageIndex image, LocationId pre
   }
   ReferenceWords(location);
   stm_.push_back(location.id);
+  changed_.insert(location.id);
   return locations_[location.id] = std::move(location);
 }
 
@@ -110,6 +111,7 @@ void Memory::Restore(Location location) {
     if (Contains(link)) at(link).loop_closures.insert(id);
   }
   working_memory_.insert(id);
+  changed_.insert(id);
   locations_[id] = std::move(location);
 }
 

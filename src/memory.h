@@ -33,7 +33,12 @@ class Memory {
   Location& AddToStm(Signature signature, ImageIndex image, LocationId previous);
 
   bool Contains(LocationId id) const { return locations_.count(id) > 0; }
-  Location& at(LocationId id) { return locations_.at(id); }
+  // Mutable access marks the location changed (for the checkpoint, which then encodes only
+  // changed locations instead of all of STM and WM at every image).
+  Location& at(LocationId id) {
+    changed_.insert(id);
+    return locations_.at(id);
+  }
   const Location& at(LocationId id) const { return locations_.at(id); }
   bool InWorkingMemory(LocationId id) const { return working_memory_.count(id) > 0; }
   const std::deque<LocationId>& stm() const { return stm_; }  // oldest first
@@ -73,6 +78,10 @@ class Memory {
               LocationId next_id);
   LocationId next_id() const { return next_id_; }
 
+  // Locations given out mutably, added or restored since ClearChanged() (some may be gone since).
+  const std::set<LocationId>& changed() const { return changed_; }
+  void ClearChanged() { changed_.clear(); }
+
   // Links of a location in memory (neighbours and loop closures), sorted.
   std::vector<LocationId> LinksOf(LocationId id) const;
   // WM locations within `range` links of a WM location, over links among STM and WM.
@@ -88,6 +97,7 @@ class Memory {
   std::deque<LocationId> stm_;
   std::set<LocationId> working_memory_;
   LocationId next_id_ = 1;
+  std::set<LocationId> changed_;
 };
 
 }  // namespace memloop

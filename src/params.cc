@@ -79,6 +79,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("T_rehearsal (eq. 1)").Help("Similarity above which the compared STM location is merged"),
     Param("memory.time_limit_ms", MEMLOOP_FIELD(memory.time_limit_ms)).Unit("ms").Range(0, kHuge)
         .Symbol("T_time").Help("Iteration time above which WM locations go to LTM (0 = infinity)"),
+    Param("memory.time_target", MEMLOOP_FIELD(memory.time_target)).Range(0.05, 1)
+        .Help("Transfer when the iteration reaches this fraction of T_time (1 = the paper), so that whole iterations stay under T_time"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")

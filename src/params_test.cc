@@ -30,6 +30,7 @@ TEST(ParamsTest, Paper2011PresetIsThePapersAndValid) {
   EXPECT_EQ(FindParameter("filter.likelihood")->Get(options), "similarity");
   EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "0");
   EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "0");
+  EXPECT_EQ(FindParameter("memory.time_target")->Get(options), "1");
   EXPECT_EQ(FindParameter("verify.min_inliers")->Get(options), "0");
   EXPECT_EQ(FindParameter("memory.rehearsal_threshold")->Get(options), "0.2");
   EXPECT_EQ(FindParameter("filter.loop_threshold")->Get(options), "0.1");
@@ -51,7 +52,7 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
   EXPECT_EQ(departures,
             (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
                                    "filter.loop_threshold", "filter.hypothesis_value",
-                                   "filter.require_support"}));
+                                   "filter.require_support", "memory.time_target"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

@@ -8,6 +8,7 @@ Options Options::Paper2011() {
   options.features.surf_upright = 0;
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
+  options.memory.time_target = 1.0;
   options.filter.hypothesis_value = "neighbours";
   options.filter.loop_threshold = 0.10;
   options.filter.likelihood = "similarity";

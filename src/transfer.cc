@@ -4,6 +4,10 @@
 
 namespace memloop {
 
+bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target) {
+  return time_limit_ms > 0 && elapsed_ms + remaining_ms > target * time_limit_ms;
+}
+
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
                                       const std::set<LocationId>& last) {
   std::vector<LocationId> order;

@@ -12,11 +12,16 @@
 namespace memloop {
 
 struct TransferTrigger {
-  bool time_exceeded = false;    // iteration time > T_time
+  bool time_exceeded = false;    // TimeExceeded(): the iteration near T_time
   int max_wm_locations = 0;      // deterministic budget, 0 = none
   int max_dictionary_words = 0;  // deterministic budget, 0 = none
   size_t dictionary_size_at_start = 0;
 };
+
+// The time trigger: the iteration so far (`elapsed_ms`, up to the transfer step) plus what will
+// follow it (`remaining_ms`: the checkpoint, as last measured) reaches `target` x T_time
+// (memory.time_target; the paper: 1, elapsed > T_time). False when T_time is off (0).
+bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target);
 
 // WM locations in the order they would be transferred: lowest weight first, then oldest
 // (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest

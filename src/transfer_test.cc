@@ -99,5 +99,16 @@ TEST_F(TransferTest, NoTriggerNoTransfer) {
   EXPECT_TRUE(Transfer(trigger, {}, {}, memory_, editor_).empty());
 }
 
+// T_time 100 ms. The paper (target 1): 60 ms so far + 30 ms of checkpoint = 90, not over; 60 + 41
+// is. memloop's 0.75: 60 + 16 = 76 > 75 transfers, 60 + 15 = 75 does not (at the target is not
+// over). T_time off never triggers.
+TEST(TimeExceededTest, CountsTheCheckpointAndAimsBelowTimeLimit) {
+  EXPECT_FALSE(TimeExceeded(60, 30, 100, 1.0));
+  EXPECT_TRUE(TimeExceeded(60, 41, 100, 1.0));
+  EXPECT_TRUE(TimeExceeded(60, 16, 100, 0.75));
+  EXPECT_FALSE(TimeExceeded(60, 15, 100, 0.75));
+  EXPECT_FALSE(TimeExceeded(1e9, 1e9, 0, 0.75));
+}
+
 }  // namespace
 }  // namespace memloop
