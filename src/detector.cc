@@ -223,6 +223,16 @@ class Detector::Impl {
 
   void Checkpoint(Result& result) {
     if (counters_.images_processed % options_.memory.checkpoint_interval != 0) return;
+    // With T_time on, a checkpoint the writer has not committed yet (SQLite folding its WAL into
+    // the file takes 100 ms at times) is not waited for: this image's is skipped, at most
+    // kMaxSkippedCheckpoints in a row, and the next one holds its changes too (issue 9). A crash
+    // then loses up to that many images more; with T_time off nothing is skipped.
+    if (options_.memory.time_limit_ms > 0 && skipped_checkpoints_ < kMaxSkippedCheckpoints &&
+        ltm_.CheckpointInFlight()) {
+      ++skipped_checkpoints_;
+      return;
+    }
+    skipped_checkpoints_ = 0;
     {
       ScopedTimer timer(&result.times.checkpoint_ms);
       WriteCheckpoint();
@@ -384,7 +394,9 @@ class Detector::Impl {
 
   Options options_;
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
-  double last_checkpoint_ms_ = 0;    // counted in the next iteration's time check
+  static constexpr int kMaxSkippedCheckpoints = 8;
+  int skipped_checkpoints_ = 0;
+  double last_checkpoint_ms_ = 0;  // counted in the next iteration's time check
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   BayesFilter filter_;

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <opencv2/core.hpp>
+#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -69,7 +70,6 @@ class Dictionary {
  private:
   struct Word {
     std::map<LocationId, int> references;
-    bool referenced_by_ltm = false;
   };
 
   DictionaryOptions options_;
@@ -77,6 +77,7 @@ class Dictionary {
 
   std::unique_ptr<WordIndex> index_;
   std::unordered_map<WordId, Word> words_;
+  std::set<WordId> referenced_by_ltm_;  // marked words, a subset of words_
   WordId next_word_id_ = 1;
 };
 

@@ -235,6 +235,11 @@ void LongTermMemory::Checkpoint(CheckpointData checkpoint) {
   Enqueue(std::move(checkpoint));
 }
 
+bool LongTermMemory::CheckpointInFlight() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return committed_sequence_ < last_checkpoint_sequence_;
+}
+
 void LongTermMemory::Flush() {
   std::unique_lock<std::mutex> lock(mutex_);
   WaitForWriterLocked(lock, [this] { return committed_sequence_ >= CommittableSequenceLocked(); });

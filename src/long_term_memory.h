@@ -73,6 +73,8 @@ class LongTermMemory {
   // for the next (they are dropped if the LTM is destroyed first). At most one checkpoint is
   // uncommitted: this waits for the previous one, which bounds what a crash can lose.
   void Checkpoint(CheckpointData checkpoint);
+  // True while the last checkpoint is not committed yet (Checkpoint would wait for it).
+  bool CheckpointInFlight() const;
   // Blocks until every queued write is committed (up to the last checkpoint once checkpoints are
   // written). Rethrows a writer failure.
   void Flush();

@@ -305,6 +305,31 @@ std::string MapContent(const std::string& path) {
   return text;
 }
 
+// With T_time on, a checkpoint the writer has not committed is not waited for (issue 9): with the
+// writer held, image 0 queues one, images 1-8 skip theirs, image 9 waits for it and queues the
+// next. With T_time off every image writes its own. The map resumes either way.
+TEST(DetectorIntegrationTest, UncommittedCheckpointIsSkippedOnlyWithTimeLimit) {
+  const SyntheticRoute route(ShortRoute());
+  for (const double time_limit : {1e9, 0.0}) {
+    testing::TempDir dir;
+    Options options;
+    options.memory.time_limit_ms = time_limit;  // 1e9: on, but never reached
+    {
+      Detector detector(options, dir.File("map.db"));
+      detector.SetWriterHeld(true);
+      for (int index = 0; index < 12; ++index) {
+        const Result result = detector.Process(route.Render(index), index);
+        const bool skipped = time_limit > 0 && index % 9 != 0;
+        EXPECT_EQ(result.times.checkpoint_ms == 0, skipped)
+            << "image " << index << ", T_time " << time_limit;
+      }
+      detector.Close();
+    }
+    Detector resumed(ReadMapOptions(dir.File("map.db")), dir.File("map.db"), MapMode::kResume);
+    EXPECT_EQ(resumed.last_image(), 11);
+  }
+}
+
 struct RouteRun {
   std::vector<Result> results;
   std::string map;
