@@ -157,7 +157,7 @@ TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds)
   CheckpointWriter writer;
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
-  AddChain(memory, {{1, 2}, {3}});  // builds: {1}, then 2 and 3 added one by one
+  AddChain(memory, {{1, 2}, {3}});                // builds: {1}, then 2 and 3 added one by one
   testing::AddWords(memory.dictionary(), {100});  // a word no location holds
   const int builds = memory.dictionary().index().build_count();
   database.WriteCheckpoint(writer.Next(memory, filter, {}, {}));

@@ -119,6 +119,21 @@ TEST(WordIndexTest, BackgroundRebuildIsUsedAtItsDelayWithTheWordsSinceItsSnapsho
   EXPECT_EQ(cv::norm(index->Descriptor(2), points.row(1), cv::NORM_L1), 0.0);
 }
 
+// A large snapshot waits longer: one insertion per 10,000 of its words when that is more than
+// rebuild_delay (here 40,001 words: 4 insertions, not 1).
+TEST(WordIndexTest, LargeSnapshotIsUsedLater) {
+  DictionaryOptions options;
+  options.rebuild_delay = 1;
+  auto index = WordIndex::Create(DescriptorKind::kFloat, 2, options);
+  index->Add(Ids(1, 20000), RandomPoints(20000, 2, 8));
+  index->Add(Ids(20001, 20001), RandomPoints(20001, 2, 9));  // starts the build
+  for (int insertion = 1; insertion <= 4; ++insertion) {
+    EXPECT_EQ(index->build_count(), 1) << "insertion " << insertion;
+    index->Add({50000 + insertion}, RandomPoints(1, 2, 10 + insertion));
+  }
+  EXPECT_EQ(index->build_count(), 2);
+}
+
 // With T_time on, the new forest is used at the first Add after it is built.
 TEST(WordIndexTest, BackgroundRebuildCanBeUsedAsSoonAsItIsReady) {
   DictionaryOptions options;

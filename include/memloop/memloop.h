@@ -8,7 +8,7 @@
 #include "memloop/image_sequence.h"
 #include "memloop/options.h"
 #include "memloop/params.h"
-#include "memloop/result.h"
 #include "memloop/place_sequence.h"
+#include "memloop/result.h"
 #include "memloop/synthetic_route.h"
 #include "memloop/types.h"

@@ -40,8 +40,9 @@ struct DictionaryOptions {
   double rebuild_fraction = 1.0;
   // Insertions (about one per image) between the start of a full rebuild and its use. The new
   // forest is built in a background thread from a snapshot of the words, so no iteration pays for
-  // it; it replaces the old one, brought up to date, this many insertions later (waiting for the
-  // build if it is not done), so the same images give the same words. 0: rebuilt inside the
+  // it; it replaces the old one, brought up to date, this many insertions later (or one per
+  // 10,000 words of the snapshot, if more; waiting for the build if it is not done), so the same
+  // images give the same words. 0: rebuilt inside the
   // iteration that crosses rebuild_fraction (a stop-the-world pause, as memloop did before).
   int rebuild_delay = 30;
   // Not a parameter: the Detector sets it when T_time is on (runs are then machine-dependent
