@@ -269,7 +269,9 @@ class FlannWordIndex : public WordIndex {
     std::future<Built> built;
   };
 
-  void StartBuild() {
+  // The live words, sorted (so that the same history gives the same index), and their
+  // descriptors row by row: what a full build is made from.
+  std::pair<std::vector<WordId>, std::vector<Element>> Snapshot() const {
     std::vector<WordId> words;
     words.reserve(point_of_word_.size());
     for (const auto& entry : point_of_word_) words.push_back(entry.first);
@@ -278,6 +280,11 @@ class FlannWordIndex : public WordIndex {
     for (size_t i = 0; i < words.size(); ++i) {
       std::copy_n(Point(words[i]), dim(), buffer.data() + i * dim());
     }
+    return {std::move(words), std::move(buffer)};
+  }
+
+  void StartBuild() {
+    auto [words, buffer] = Snapshot();
     LaunchBuild(std::move(words), std::move(buffer), next_point_, 0);
   }
 
@@ -394,14 +401,7 @@ class FlannWordIndex : public WordIndex {
 
   // A new index over the live points, in word order so the same history gives the same index.
   void Rebuild() {
-    std::vector<WordId> ids;
-    ids.reserve(point_of_word_.size());
-    for (const auto& entry : point_of_word_) ids.push_back(entry.first);
-    std::sort(ids.begin(), ids.end());
-    std::vector<Element> buffer(ids.size() * dim());
-    for (size_t i = 0; i < ids.size(); ++i) {
-      std::copy_n(Point(ids[i]), dim(), buffer.data() + i * dim());
-    }
+    auto [ids, buffer] = Snapshot();
     index_.reset();
     buffers_.clear();
     point_of_word_.clear();

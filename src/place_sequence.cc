@@ -1,9 +1,6 @@
 #include "memloop/place_sequence.h"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "memloop/errors.h"
 #include "synthetic_view.h"
@@ -105,22 +102,8 @@ int PlaceSequence::revisit_frames() const {
 }
 
 void PlaceSequence::Write(const std::string& folder) const {
-  const std::string images = folder + "/images";
-  std::error_code error;
-  std::filesystem::create_directories(images, error);
-  if (error) throw InputError(images, "cannot create the folder (" + error.message() + ")");
-  for (int index = 0; index < size(); ++index) {
-    const std::string path = images + "/" + std::to_string(index + 1) + ".png";
-    if (!cv::imwrite(path, Render(index))) throw InputError(path, "cannot write the image");
-  }
-  const std::string csv_path = folder + "/ground_truth_pairs.csv";
-  std::ofstream csv(csv_path);
-  csv << "query,match\n";
-  for (const auto& [query, match] : GroundTruthPairs()) {
-    csv << query + 1 << ".png," << match + 1 << ".png\n";
-  }
-  csv.close();  // the last buffer's write is checked too
-  if (!csv) throw InputError(csv_path, "cannot write the ground truth");
+  WriteSequence(
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs());
 }
 
 }  // namespace memloop

@@ -1,9 +1,6 @@
 #include "memloop/synthetic_route.h"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "memloop/errors.h"
@@ -95,22 +92,8 @@ std::vector<std::pair<int, int>> SyntheticRoute::GroundTruthPairs() const {
 }
 
 void SyntheticRoute::Write(const std::string& folder) const {
-  const std::string images = folder + "/images";
-  std::error_code error;
-  std::filesystem::create_directories(images, error);
-  if (error) throw InputError(images, "cannot create the folder (" + error.message() + ")");
-  for (int index = 0; index < size(); ++index) {
-    const std::string path = images + "/" + std::to_string(index + 1) + ".png";
-    if (!cv::imwrite(path, Render(index))) throw InputError(path, "cannot write the image");
-  }
-  const std::string csv_path = folder + "/ground_truth_pairs.csv";
-  std::ofstream csv(csv_path);
-  csv << "query,match\n";
-  for (const auto& [query, match] : GroundTruthPairs()) {
-    csv << query + 1 << ".png," << match + 1 << ".png\n";
-  }
-  csv.close();  // the last buffer's write is checked too
-  if (!csv) throw InputError(csv_path, "cannot write the ground truth");
+  WriteSequence(
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs());
 }
 
 }  // namespace memloop

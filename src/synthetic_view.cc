@@ -1,6 +1,11 @@
 #include "synthetic_view.h"
 
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "memloop/errors.h"
 
 namespace memloop {
 
@@ -66,6 +71,24 @@ cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& j
   cv::Mat color;
   cv::cvtColor(view, color, cv::COLOR_GRAY2BGR);
   return color;
+}
+
+void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
+                   const std::vector<std::pair<int, int>>& pairs) {
+  const std::string images = folder + "/images";
+  std::error_code error;
+  std::filesystem::create_directories(images, error);
+  if (error) throw InputError(images, "cannot create the folder (" + error.message() + ")");
+  for (int index = 0; index < size; ++index) {
+    const std::string path = images + "/" + std::to_string(index + 1) + ".png";
+    if (!cv::imwrite(path, render(index))) throw InputError(path, "cannot write the image");
+  }
+  const std::string csv_path = folder + "/ground_truth_pairs.csv";
+  std::ofstream csv(csv_path);
+  csv << "query,match\n";
+  for (const auto& [query, match] : pairs) csv << query + 1 << ".png," << match + 1 << ".png\n";
+  csv.close();  // the last buffer's write is checked too
+  if (!csv) throw InputError(csv_path, "cannot write the ground truth");
 }
 
 }  // namespace memloop

@@ -2,7 +2,11 @@
 // worlds, and a camera's view of them with a small change of viewpoint and exposure.
 #pragma once
 
+#include <functional>
 #include <opencv2/core.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace memloop {
 
@@ -20,5 +24,11 @@ struct ViewJitter {
 // 8-bit BGR, with sensor noise seeded by `noise_seed`.
 cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& jitter, int width,
                    int height, uint64_t noise_seed);
+
+// Writes `folder`/images/1.png .. N.png (frame i from `render(i)`) and
+// `folder`/ground_truth_pairs.csv ("query,match" file names), the layout of ../shared/datasets.
+// Throws InputError naming the file that cannot be written.
+void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
+                   const std::vector<std::pair<int, int>>& pairs);
 
 }  // namespace memloop

@@ -356,6 +356,32 @@ TEST_F(CliTest, ReportWithoutGnuplotSaysSo) {
       << ReadFile(dir_.File("out.txt"));
 }
 
+// Issue 9's long sequences: generate writes one (images + pairs) that eval reads, and demo runs
+// the same sequence on the fly, scored against the same ground truth.
+TEST_F(CliTest, GeneratedPlacesOfAnyLength) {
+  const std::string places =
+      " --places 12 --frames-per-place 5 --revisit-every 3 --min-revisit-age 20";
+  const std::string folder = dir_.File("places");
+  ASSERT_EQ(Memloop("generate " + folder + places).exit_code, 0);
+  int images = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder + "/images")) {
+    images += entry.path().extension() == ".png";
+  }
+  const Outcome demo =
+      Memloop("demo" + places + " --set memory.time_limit_ms=0 --out " + dir_.File("places.csv"));
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  EXPECT_TRUE(Contains(demo.output, "Generated places: " + std::to_string(images) + " images"))
+      << demo.output;
+  const auto line = demo.output.substr(demo.output.rfind("precision"));
+  const std::string recall = line.substr(line.find("recall"));
+  const Outcome eval = Memloop("eval " + dir_.File("places.csv") + " " + folder +
+                               "/ground_truth_pairs.csv --time-limit-ms 1000");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_TRUE(Contains(eval.output, recall.substr(0, recall.find(" (")))) << eval.output;
+  EXPECT_TRUE(Contains(eval.output, "over T_time: 0 (0.00%)")) << eval.output;
+  EXPECT_NE(Memloop("demo --places 0 --revisit-every -1").exit_code, 0);
+}
+
 TEST_F(CliTest, DemoPrintsPrecisionAndRecall) {
   const Outcome demo = Memloop("demo --set memory.time_limit_ms=0");
   ASSERT_EQ(demo.exit_code, 0) << demo.output;

@@ -55,10 +55,12 @@ void PrintScored(const Generated& generated, const SessionReport& report, int lo
               true_positives, loop_images);
 }
 
-void AddPlaceOptions(CLI::App& command, PlaceSequenceOptions* options) {
-  command.add_option("--places", options->places,
-                     "A long sequence of this many distinct places (issue 9's scale sequence) "
-                     "instead of the demo route");
+// Returns --places: given, the command uses a PlaceSequence instead of the demo route.
+CLI::Option* AddPlaceOptions(CLI::App& command, PlaceSequenceOptions* options) {
+  CLI::Option* places =
+      command.add_option("--places", options->places,
+                         "A long sequence of this many distinct places (issue 9's scale sequence) "
+                         "instead of the demo route");
   command.add_option("--frames-per-place", options->frames_per_place, "Frames of each visit")
       ->capture_default_str();
   command
@@ -69,12 +71,7 @@ void AddPlaceOptions(CLI::App& command, PlaceSequenceOptions* options) {
       .add_option("--min-revisit-age", options->min_revisit_age,
                   "A revisited place was last seen at least this many images before")
       ->capture_default_str();
-}
-
-PlaceSequenceOptions NoPlaces() {
-  PlaceSequenceOptions options;
-  options.places = 0;  // the demo route unless --places is given
-  return options;
+  return places;
 }
 
 }  // namespace
@@ -87,7 +84,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string preset = "default";
     int seed = SyntheticRouteOptions().seed;
     std::string folder;
-    PlaceSequenceOptions places = NoPlaces();
+    PlaceSequenceOptions places;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* demo = app.add_subcommand(
@@ -100,10 +97,10 @@ void AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
-  AddPlaceOptions(*demo, &arguments->places);
-  demo->callback([arguments] {
+  CLI::Option* demo_places = AddPlaceOptions(*demo, &arguments->places);
+  demo->callback([arguments, demo_places] {
     const Options options = OptionsFromAssignments(arguments->assignments, arguments->preset);
-    if (arguments->places.places > 0) {
+    if (demo_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       const PlaceSequence places(arguments->places);
       GeneratedSequence<PlaceSequence> sequence(places);
@@ -136,9 +133,9 @@ void AddDemoCommand(CLI::App& app) {
       ->required();
   generate->add_option("--seed", arguments->seed, "Seed of the generated world")
       ->capture_default_str();
-  AddPlaceOptions(*generate, &arguments->places);
-  generate->callback([arguments] {
-    if (arguments->places.places > 0) {
+  CLI::Option* generate_places = AddPlaceOptions(*generate, &arguments->places);
+  generate->callback([arguments, generate_places] {
+    if (generate_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       PlaceSequence(arguments->places).Write(arguments->folder);
       return;
