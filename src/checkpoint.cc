@@ -82,7 +82,8 @@ constexpr const char* kCounters = "counters";
 constexpr const char* kStm = "stm";
 constexpr const char* kDictionary = "dictionary";
 constexpr const char* kIndex = "index";
-constexpr const char* kIndexPending = "index_pending";  // empty: no background build
+constexpr const char* kIndexPending = "index_pending";             // empty: no background build
+constexpr const char* kIndexPendingWords = "index_pending_words";  // its snapshot, once per build
 constexpr const char* kFilter = "filter";
 constexpr const char* kPastMatches = "past_matches";
 
@@ -142,7 +143,7 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   checkpoint.full = first_;
   // Locations: written when new or changed, removed when they left memory. Only those Memory
   // gave out mutably (or added) since it was last cleared can have changed: the others are not
-  // encoded again (issue 9: encoding all of WM took 45 ms per image at WM 1,100).
+  // encoded again (issue 9: docs/design.md, "The cost", measures it).
   const auto encode = [&](LocationId id) {
     std::vector<unsigned char> data = EncodeLocation(memory.at(id));
     const size_t hash = Hash(data);
@@ -171,11 +172,11 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   // pause at 160,000 words).
   const Dictionary& dictionary = memory.dictionary();
   const WordIndex& index = dictionary.index();
-  IndexHistory history = index.History(index_points_written_, /*with_descriptors=*/false);
+  IndexHistory history = index.History(index_points_written_, /*complete=*/false);
   checkpoint.reset_index = first_ || history.build_count != index_build_count_ ||
                            history.point_count < index_points_written_;
   if (checkpoint.reset_index) {
-    history = index.History(0, /*with_descriptors=*/false);
+    history = index.History(0, /*complete=*/false);
     if (first_) {  // the file's descriptors all go
       descriptors_written_.clear();
       descriptors_to_forget_.clear();
@@ -225,11 +226,16 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
       .Put<uint64_t>(history.point_count);
   std::vector<uint64_t> starts(history.batch_starts.begin(), history.batch_starts.end());
   AddState(checkpoint, kIndex, index_state.PutAll(starts).Take());
+  // A background build: its age changes at every image, its words (the snapshot, up to millions)
+  // only when a new build starts, so they are written apart, once.
   ByteWriter pending;
   if (history.pending) {
-    pending.Put<uint64_t>(history.pending_point)
-        .Put<int32_t>(history.pending_age)
-        .PutAll(history.pending_words);
+    pending.Put<uint64_t>(history.pending_point).Put<int32_t>(history.pending_age);
+    const std::pair<int, size_t> build{history.build_count, history.pending_point};
+    if (first_ || build != pending_words_written_) {
+      AddState(checkpoint, kIndexPendingWords, ByteWriter().PutAll(index.PendingWords()).Take());
+      pending_words_written_ = build;
+    }
   }
   AddState(checkpoint, kIndexPending, pending.Take());
   ByteWriter filter_state;
@@ -273,8 +279,11 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
     index.pending = true;
     index.pending_point = pending_reader.Get<uint64_t>();
     index.pending_age = pending_reader.Get<int32_t>();
-    index.pending_words = pending_reader.GetAll<WordId>();
     pending_reader.ExpectEnd();
+    const std::vector<unsigned char> words = RequiredState(database, kIndexPendingWords);
+    ByteReader words_reader(words, "the checkpoint's pending index build");
+    index.pending_words = words_reader.GetAll<WordId>();
+    words_reader.ExpectEnd();
   }
   const std::vector<CheckpointData::Point> points =
       database.ReadIndexPoints();  // descriptors joined

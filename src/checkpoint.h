@@ -13,6 +13,7 @@
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "bayes_filter.h"
@@ -59,8 +60,9 @@ class CheckpointWriter {
   std::unordered_map<std::string, size_t> state_hashes_;
   int index_build_count_ = -1;
   size_t index_points_written_ = 0;
-  std::unordered_set<WordId> descriptors_written_;  // words whose descriptor the file holds
-  std::set<WordId> descriptors_to_forget_;          // held, but named by no point any more
+  std::unordered_set<WordId> descriptors_written_;       // words whose descriptor the file holds
+  std::set<WordId> descriptors_to_forget_;               // held, but named by no point any more
+  std::pair<int, size_t> pending_words_written_{-1, 0};  // (build count, snapshot point)
 };
 
 // Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "memloop/errors.h"
 #include "small_memory.h"
 #include "temp_dir.h"
@@ -183,6 +185,39 @@ TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds)
               0.0)
         << "point " << point;
   }
+}
+
+// A background build's snapshot words are written once; its age, which changes at every
+// insertion, apart. Read back, the checkpoint holds both.
+TEST(CheckpointIndexTest, PendingBuildWordsAreWrittenOncePerBuild) {
+  DictionaryOptions options = SmallDictionaryOptions();
+  options.rebuild_fraction = 1.0;
+  options.rebuild_delay = 100;  // the build stays pending through the test
+  Memory memory(DescriptorKind::kFloat, 2, options);
+  BayesFilter filter{FilterOptions()};
+  CheckpointWriter writer;
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory, {{1}, {2}, {3}});  // 1 built, 2 added (1 change), 3 added (2 > 1): pending
+  ASSERT_TRUE(memory.dictionary().index().History(0).pending);
+  const auto keys = [](const CheckpointData& checkpoint) {
+    std::set<std::string> written;
+    for (const auto& [key, value] : checkpoint.state) written.insert(key);
+    return written;
+  };
+  const CheckpointData first = writer.Next(memory, filter, {}, {});
+  EXPECT_TRUE(keys(first).count("index_pending_words"));
+  database.WriteCheckpoint(first);
+  AddChain(memory, {{4}});  // one more insertion: the age changes, the words do not
+  const CheckpointData second = writer.Next(memory, filter, {}, {});
+  EXPECT_TRUE(keys(second).count("index_pending"));
+  EXPECT_FALSE(keys(second).count("index_pending_words"));
+  database.WriteCheckpoint(second);
+  Memory reloaded(DescriptorKind::kFloat, 2, options);
+  const ResumeState state = ReadCheckpoint(database, reloaded.dictionary());
+  EXPECT_TRUE(state.index.pending);
+  EXPECT_EQ(state.index.pending_age, 1);
+  EXPECT_EQ(state.index.pending_words, memory.dictionary().index().PendingWords());
 }
 
 TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {

@@ -21,6 +21,21 @@ Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& images, const Gro
   return ignored ? Verdict::kIgnored : Verdict::kFalse;
 }
 
+// Median and max iteration, and with T_time, the iterations over it and max / T_time.
+void AddTimeBound(const std::vector<RunRow>& rows, double time_limit_ms, RunEvaluation* e) {
+  std::vector<double> times;
+  for (const RunRow& row : rows) times.push_back(row.iteration_ms);
+  if (times.empty()) return;
+  std::sort(times.begin(), times.end());
+  e->median_iteration_ms = times[times.size() / 2];
+  e->max_iteration_ms = times.back();
+  if (time_limit_ms <= 0) return;
+  e->time_limit_ms = time_limit_ms;
+  e->iterations_over_time_limit =
+      static_cast<int>(times.end() - std::upper_bound(times.begin(), times.end(), time_limit_ms));
+  e->max_over_time_limit = e->max_iteration_ms / time_limit_ms;
+}
+
 }  // namespace
 
 PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundTruth& truth) {
@@ -48,17 +63,7 @@ PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundT
 RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth,
                           double time_limit_ms) {
   RunEvaluation evaluation;
-  std::vector<double> times;
-  for (const RunRow& row : rows) times.push_back(row.iteration_ms);
-  if (!times.empty()) {
-    std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
-    evaluation.median_iteration_ms = times[times.size() / 2];
-  }
-  if (time_limit_ms > 0) {
-    evaluation.time_limit_ms = time_limit_ms;
-    for (const RunRow& row : rows)
-      evaluation.iterations_over_time_limit += row.iteration_ms > time_limit_ms;
-  }
+  AddTimeBound(rows, time_limit_ms, &evaluation);
   std::vector<Detection> accepted;
   struct Hypothesis {
     double value;
@@ -69,14 +74,11 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     evaluation.images += 1;
     evaluation.max_wm_size = std::max(evaluation.max_wm_size, row.wm_size);
     evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
-    evaluation.max_iteration_ms = std::max(evaluation.max_iteration_ms, row.iteration_ms);
     if (!row.matched_images.empty()) accepted.push_back({row.image, row.matched_images});
     if (row.hypothesis_id != kNoLocation && row.hypothesis_eligible) {
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
   }
-  if (time_limit_ms > 0)
-    evaluation.max_over_time_limit = evaluation.max_iteration_ms / time_limit_ms;
   evaluation.accepted = Evaluate(accepted, truth);
   const int loop_images = evaluation.accepted.loop_images;
   std::stable_sort(hypotheses.begin(), hypotheses.end(),

@@ -123,7 +123,11 @@ class FlannWordIndex : public WordIndex {
     return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(index_->getPoint(point))).clone();
   }
 
-  IndexHistory History(size_t from_point, bool with_descriptors) const override {
+  std::vector<WordId> PendingWords() const override {
+    return pending_ ? pending_->words : std::vector<WordId>();
+  }
+
+  IndexHistory History(size_t from_point, bool complete) const override {
     IndexHistory history;
     history.build_count = build_count_;
     history.size_at_build = size_at_build_;
@@ -132,17 +136,17 @@ class FlannWordIndex : public WordIndex {
     history.point_count = next_point_;
     history.first_point = std::min(from_point, next_point_);
     history.point_words.assign(point_words_.begin() + history.first_point, point_words_.end());
-    if (with_descriptors) {
+    if (complete) {
       history.descriptors.create(static_cast<int>(next_point_ - history.first_point), dim(),
                                  cv_type());
     }
-    for (size_t point = history.first_point; with_descriptors && point < next_point_; ++point) {
+    for (size_t point = history.first_point; complete && point < next_point_; ++point) {
       std::copy_n(index_->getPoint(point), dim(),
                   history.descriptors.ptr<Element>(static_cast<int>(point - history.first_point)));
     }
     if (pending_) {
       history.pending = true;
-      history.pending_words = pending_->words;
+      if (complete) history.pending_words = pending_->words;
       history.pending_point = pending_->snapshot_point;
       history.pending_age = pending_->age;
     }
@@ -254,7 +258,6 @@ class FlannWordIndex : public WordIndex {
     ++build_count_;
   }
 
-  // A full build running in a background thread over a snapshot of the live words.
   // What the background thread makes: the index over the snapshot and its point <-> word maps.
   struct Built {
     std::unique_ptr<Index> index;

@@ -28,7 +28,8 @@ struct IndexHistory {
   std::vector<WordId> point_words;
   cv::Mat descriptors;  // one row per point from first_point
   // A full build running in the background (DictionaryOptions::rebuild_delay): the live words
-  // when it started (sorted: its points), point_count then, and the insertions since.
+  // when it started (sorted: its points; only in a complete history), point_count then, and the
+  // insertions since.
   bool pending = false;
   std::vector<WordId> pending_words;
   size_t pending_point = 0;
@@ -62,9 +63,12 @@ class WordIndex {
   virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const = 0;
   // Full builds so far.
   virtual int build_count() const = 0;
-  // The history since the last build, with the points from `from_point` on (their descriptors
-  // left empty unless `with_descriptors`).
-  virtual IndexHistory History(size_t from_point, bool with_descriptors = true) const = 0;
+  // The history since the last build, with the points from `from_point` on. Unless `complete`,
+  // the points' descriptors and the pending build's words are left empty (PointDescriptor and
+  // PendingWords give them): what a checkpoint needs at every image is small.
+  virtual IndexHistory History(size_t from_point, bool complete = true) const = 0;
+  // The words of the build running in the background (sorted), empty when none runs.
+  virtual std::vector<WordId> PendingWords() const = 0;
   // The descriptor of point `point` of the history (removed points too), as one row (a copy).
   virtual cv::Mat PointDescriptor(size_t point) const = 0;
   // Rebuilds the index exactly as `history` (all points from 0) left it, with `live_words` (the
