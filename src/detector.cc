@@ -101,7 +101,7 @@ DictionaryOptions DictionaryOptionsOf(const Options& options) {
 }  // namespace
 
 Options ReadMapOptions(const std::string& path) {
-  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  LtmDatabase database(path, LtmDatabase::Mode::kRead);
   return OptionsOf(database);
 }
 

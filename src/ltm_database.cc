@@ -4,6 +4,7 @@
 
 #include <cassert>
 #include <cstring>
+#include <filesystem>
 #include <unordered_map>
 
 #include "memloop/errors.h"
@@ -11,61 +12,115 @@
 namespace memloop {
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr int kLinkNeighbour = 0;
 constexpr int kLinkLoopClosure = 1;
 
-bool FileHasContent(const std::string& path) {
+off_t FileSize(const std::string& path) {
   struct stat info {};
-  return stat(path.c_str(), &info) == 0 && info.st_size > 0;
+  return stat(path.c_str(), &info) == 0 ? info.st_size : 0;
+}
+
+// A map's rows may still be only in its write-ahead log (a run killed before SQLite folded it).
+bool HoldsData(const std::string& path) {
+  return FileSize(path) > 0 || FileSize(path + "-wal") > 0;
+}
+
+// What cannot be a map file at all, said before SQLite says "disk I/O error" or "unable to open".
+void CheckIsFileOrAbsent(const std::string& path, LtmDatabase::Mode mode) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) == 0) {
+    if (S_ISDIR(info.st_mode)) throw DatabaseError(path, "is a folder; a map is a file");
+    if (!S_ISREG(info.st_mode)) {
+      throw DatabaseError(path,
+                          "is not a regular file (a device, pipe or socket); a map is a file");
+    }
+    return;
+  }
+  if (mode != LtmDatabase::Mode::kCreate) throw DatabaseError(path, "no such file");
+  const std::string folder = fs::path(path).parent_path().string();
+  if (!folder.empty() && !fs::is_directory(folder)) {
+    throw DatabaseError(path, "cannot create the map: the folder " + folder + " does not exist");
+  }
+}
+
+int ReadInt(SqliteConnection& connection, const std::string& sql) {
+  SqliteStatement query(connection, sql);
+  return query.Step() ? static_cast<int>(query.Int(0)) : 0;
+}
+
+std::string ReadText(SqliteConnection& connection, const std::string& sql) {
+  try {
+    SqliteStatement query(connection, sql);
+    return query.Step() ? query.Text(0) : "";
+  } catch (const DatabaseError&) {
+    return "";  // no such table: a map older than the row
+  }
 }
 
 }  // namespace
 
+int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
+  CheckIsFileOrAbsent(path, mode);
+  if (!HoldsData(path)) {
+    if (mode != Mode::kCreate) throw DatabaseError(path, "empty file: no memloop map in it");
+    return kFormatVersion;
+  }
+  // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in).
+  SqliteConnection connection(path, SQLITE_OPEN_READONLY);
+  int application_id = 0;
+  int version = 0;
+  try {
+    application_id = ReadInt(connection, "PRAGMA application_id");
+    version = ReadInt(connection, "PRAGMA user_version");
+  } catch (const DatabaseError&) {
+    throw DatabaseError(path, std::string("not a memloop map: not an SQLite database, or its "
+                                          "header is damaged (") +
+                                  sqlite3_errmsg(connection.handle()) + ")");
+  }
+  if (application_id != kApplicationId) {
+    throw DatabaseError(path, "not a memloop map (an SQLite database of another application)");
+  }
+  if (version > kFormatVersion || version < 1) {
+    // Every format writes its version in the info table too: a header that disagrees with it
+    // was damaged, it is not a newer memloop's map.
+    const std::string recorded =
+        ReadText(connection, "SELECT value FROM info WHERE key='" + std::string(kFormatKey) + "'");
+    if (version < 1 || recorded != std::to_string(version)) {
+      throw DatabaseError(path, "the map's header is damaged (format version " +
+                                    std::to_string(version) + " in the header, " +
+                                    (recorded.empty() ? "none" : recorded) + " in the map)");
+    }
+    throw DatabaseError(path, "map format " + std::to_string(version) +
+                                  " is newer than this memloop's (" +
+                                  std::to_string(kFormatVersion) + "): upgrade memloop");
+  }
+  if (mode == Mode::kCreate) {
+    throw DatabaseError(path,
+                        "already holds a memloop map; a run starts a new map, so choose "
+                        "another --db path (the existing map is left untouched)");
+  }
+  if (mode != Mode::kAttach) {
+    SqliteStatement check(connection, "PRAGMA quick_check");
+    const std::string verdict = check.Step() ? check.Text(0) : "no answer";
+    if (verdict != "ok") throw DatabaseError(path, "the map is damaged (" + verdict + ")");
+  }
+  return version;
+}
+
 LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
-    : connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+    : format_version_(CheckMapFile(path, mode)),
+      connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+                        : mode == Mode::kRead ? SQLITE_OPEN_READONLY
                                               : SQLITE_OPEN_READWRITE) {
-  const bool existed = FileHasContent(path);
-  if (mode != Mode::kCreate && !existed) throw DatabaseError(path, "no memloop map in this file");
-  if (existed) CheckIdentity(mode);
+  if (mode == Mode::kRead) return;
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).
   connection_.Execute(
       "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
       "PRAGMA foreign_keys=OFF;");
-  if (!existed) CreateSchema();
-}
-
-void LtmDatabase::CheckIdentity(Mode mode) {
-  long long application_id = 0;
-  long long version = 0;
-  try {
-    SqliteStatement id_query(connection_, "PRAGMA application_id");
-    if (id_query.Step()) application_id = id_query.Int(0);
-    SqliteStatement version_query(connection_, "PRAGMA user_version");
-    if (version_query.Step()) version = version_query.Int(0);
-  } catch (const DatabaseError& error) {
-    throw DatabaseError(
-        path(), std::string("not a memloop map (") + sqlite3_errmsg(connection_.handle()) + ")");
-  }
-  if (application_id != kApplicationId) {
-    throw DatabaseError(path(), "not a memloop map (an SQLite database of another application)");
-  }
-  format_version_ = static_cast<int>(version);
-  if (version > kFormatVersion) {
-    throw DatabaseError(path(), "map format " + std::to_string(version) +
-                                    " is newer than this memloop's (" +
-                                    std::to_string(kFormatVersion) + "): upgrade memloop");
-  }
-  if (mode != Mode::kAttach) {
-    SqliteStatement check(connection_, "PRAGMA quick_check");
-    const std::string verdict = check.Step() ? check.Text(0) : "no answer";
-    if (verdict != "ok") throw DatabaseError(path(), "the map is damaged (" + verdict + ")");
-  }
-  if (mode == Mode::kCreate) {
-    throw DatabaseError(path(),
-                        "already holds a memloop map; a run starts a new map, so choose "
-                        "another --db path (the existing map is left untouched)");
-  }
+  if (mode == Mode::kCreate) CreateSchema();
 }
 
 void LtmDatabase::CreateSchema() {
@@ -95,6 +150,9 @@ void LtmDatabase::CreateSchema() {
       "CREATE TABLE index_chunks(first_point INTEGER PRIMARY KEY, words BLOB NOT NULL);"
       "CREATE TABLE index_descriptors(word_id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
       "CREATE TABLE resume_state(key TEXT PRIMARY KEY, value BLOB NOT NULL);"
+      "INSERT INTO info(key, value) VALUES('" +
+      std::string(kFormatKey) + "', '" + std::to_string(kFormatVersion) +
+      "');"
       "COMMIT;");
 }
 

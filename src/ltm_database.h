@@ -53,11 +53,13 @@ class LtmDatabase {
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty
     kOpen,    // an existing memloop map, read and written
+    kRead,    // an existing memloop map, read only (its file is never written)
     kAttach,  // as kOpen, for a further connection to a map another one has just opened: its
               // identity is checked, not its integrity again (quick_check reads the whole file)
   };
-  // Throws DatabaseError naming the file: not SQLite, not memloop's, newer format, damaged, or
-  // (kCreate) already holding a map. A refused file is never written to.
+  // Throws DatabaseError naming the file: not a regular file, not SQLite, not memloop's, newer
+  // format, damaged header or content, or (kCreate) already holding a map. A refused file is never
+  // written to: it is checked through a read-only connection first.
   LtmDatabase(const std::string& path, Mode mode);
 
   // SQLite max_page_count: writes past it fail as on a full disk (tests).
@@ -96,12 +98,16 @@ class LtmDatabase {
   const std::string& path() const { return connection_.path(); }
 
  private:
-  void CheckIdentity(Mode mode);
+  // The checks above; returns the map's format version (kFormatVersion for a new file).
+  static int CheckMapFile(const std::string& path, Mode mode);
   void CreateSchema();
   SqliteStatement& Cached(const std::string& sql);
 
+  // The format version is also an info row, so that a damaged header is told from a newer map.
+  static constexpr const char* kFormatKey = "format_version";
+
+  int format_version_;  // before connection_: the file is checked before it is opened to write
   SqliteConnection connection_;
-  int format_version_ = kFormatVersion;
   std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
 };
 

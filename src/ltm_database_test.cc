@@ -1,7 +1,10 @@
 #include "ltm_database.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -13,6 +16,7 @@ namespace memloop {
 namespace {
 
 std::string ReadBytes(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return "";  // a folder or a device: nothing to keep
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
@@ -141,9 +145,55 @@ TEST_F(RefusedDatabaseTest, NewerFormat) {
   { LtmDatabase database(path, LtmDatabase::Mode::kCreate); }
   {
     SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
-    raw.Execute("PRAGMA user_version=99;");
+    raw.Execute("PRAGMA user_version=99; UPDATE info SET value='99' WHERE key='format_version';");
   }
   ExpectRefused(path, "newer", LtmDatabase::Mode::kOpen);
+}
+
+// A header whose version disagrees with the map's own record was damaged; upgrading would not help.
+TEST_F(RefusedDatabaseTest, DamagedHeaderIsNotANewerFormat) {
+  const std::string path = dir_.File("scribbled.db");
+  { LtmDatabase database(path, LtmDatabase::Mode::kCreate); }
+  {
+    SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
+    raw.Execute("PRAGMA user_version=2131899478;");
+  }
+  ExpectRefused(path, "header is damaged (format version 2131899478 in the header, 3 in the map)",
+                LtmDatabase::Mode::kOpen);
+}
+
+// A run killed before SQLite folded its log: the map is in the -wal file. Refusing it reads it
+// through a read-only connection, so neither file changes (a read-write one would fold the log).
+TEST_F(RefusedDatabaseTest, MapStillInItsLogIsRefusedWithItsBytesKept) {
+  const std::string path = dir_.File("killed.db");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.WriteLocation(SampleLocation());
+    _exit(0);  // as kill -9: no close, no fold
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const std::string log = ReadBytes(path + "-wal");
+  ASSERT_FALSE(log.empty());
+  ExpectRefused(path, "already holds a memloop map");
+  EXPECT_EQ(ReadBytes(path + "-wal"), log);
+  {
+    LtmDatabase reader(path, LtmDatabase::Mode::kRead);
+    EXPECT_EQ(reader.CountLocations(), 1);
+  }
+  EXPECT_EQ(ReadBytes(path + "-wal"), log);
+}
+
+TEST_F(RefusedDatabaseTest, NotAFile) {
+  std::filesystem::create_directory(dir_.File("folder.db"));
+  ExpectRefused(dir_.File("folder.db"), "is a folder; a map is a file");
+  ExpectRefused("/dev/null", "is not a regular file");
+  ExpectRefused(dir_.File("no/such/folder/map.db"), "the folder");
+  ExpectRefused(dir_.File("absent.db"), "no such file", LtmDatabase::Mode::kOpen);
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("absent.db")));
 }
 
 TEST_F(RefusedDatabaseTest, Damaged) {

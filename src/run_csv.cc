@@ -1,9 +1,12 @@
 #include "memloop/run_csv.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -37,6 +40,28 @@ constexpr const char* kHeader =
 }  // namespace
 
 RunCsvWriter::RunCsvWriter(const std::string& path) : path_(path) { Create(); }
+
+void RunCsvWriter::CheckCanCreate(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error)) throw InputError(path, "is a folder, not a results file");
+  if (fs::exists(path, error)) {
+    if (access(path.c_str(), W_OK) != 0) {
+      throw InputError(path, std::string("cannot write the results file: ") + std::strerror(errno));
+    }
+    return;
+  }
+  const fs::path folder =
+      fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (!fs::is_directory(folder, error)) {
+    throw InputError(
+        path, "cannot write the results file: the folder " + folder.string() + " does not exist");
+  }
+  if (access(folder.c_str(), W_OK) != 0) {
+    throw InputError(path, "cannot write the results file: the folder " + folder.string() +
+                               " is not writable (" + std::strerror(errno) + ")");
+  }
+}
 
 void RunCsvWriter::Create() {
   out_.open(path_);

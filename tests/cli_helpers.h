@@ -2,12 +2,18 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace memloop {
@@ -57,6 +63,47 @@ inline std::string WithoutTimes(const std::string& csv) {
     kept += "\n";
   }
   return kept;
+}
+
+// Rows of a run CSV (its lines but the header).
+inline int CsvRows(const std::string& path) {
+  const std::string text = ReadFile(path);
+  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  return std::max(0, lines - 1);
+}
+
+// Starts the tool with `arguments` (stdout and stderr to `log`, TMPDIR set to `temporary_folder`
+// if given); returns its pid.
+inline pid_t Start(const std::vector<std::string>& arguments, const std::string& log,
+                   const std::string& temporary_folder = "") {
+  const pid_t child = fork();
+  if (child == 0) {
+    if (!temporary_folder.empty()) setenv("TMPDIR", temporary_folder.c_str(), 1);
+    if (freopen(log.c_str(), "w", stdout) == nullptr) _exit(126);
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv = {const_cast<char*>(MEMLOOP_CLI)};
+    for (const std::string& argument : arguments)
+      argv.push_back(const_cast<char*>(argument.c_str()));
+    argv.push_back(nullptr);
+    execv(MEMLOOP_CLI, argv.data());
+    _exit(127);
+  }
+  return child;
+}
+
+// Sends `signal` to `child` once `csv` has at least `rows` rows; returns its wait status. On a
+// machine so busy that this thread sleeps through the rest of the run, the child exits first.
+inline int SignalAfterRows(pid_t child, const std::string& csv, int rows, int signal) {
+  int status = 0;
+  while (waitpid(child, &status, WNOHANG) != child) {
+    if (CsvRows(csv) >= rows) {
+      kill(child, signal);
+      waitpid(child, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return status;
 }
 
 }  // namespace memloop

@@ -137,6 +137,11 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
       {"run " + Images() + " --set memory.stm=3", "Unknown parameter 'memory.stm'"},
       {"run " + Images() + " --set filter.loop_threshold=7",
        "Invalid parameter filter.loop_threshold = '7': must be in [0, 1]"},
+      {"run " + Images() + " --db /dev/null", "/dev/null: is not a regular file"},
+      {"run " + Images() + " --db " + dir_.File("empty"),
+       dir_.File("empty") + ": is a folder; a map is a file"},
+      {"run " + Images() + " --db " + missing + "/map.db",
+       missing + "/map.db: cannot create the map: the folder " + missing + " does not exist"},
   };
   for (const Case& c : cases) {
     const Outcome outcome = Memloop(c.arguments);
@@ -259,6 +264,27 @@ TEST_F(CliTest, ForeignOrExistingDatabasesAreRefusedAndKept) {
   EXPECT_NE(outcome.exit_code, 0);
   EXPECT_TRUE(Contains(outcome.output, map + ": ")) << outcome.output;
   EXPECT_EQ(ReadFile(map), damaged);
+}
+
+// A run refused for one output creates none of the others, so that the same command, once the
+// output is fixed, is not refused for a map the failed run made.
+TEST_F(CliTest, RefusedRunLeavesNoFileBehind) {
+  const std::string map = dir_.File("map.db");
+  std::filesystem::create_directories(dir_.File("folder"));
+  for (const std::string& out : {dir_.File("missing/run.csv"), dir_.File("folder")}) {
+    const Outcome refused = Memloop("run " + Images() + " --db " + map + " --out " + out);
+    EXPECT_EQ(refused.exit_code, 1) << refused.output;
+    EXPECT_TRUE(Contains(refused.output, "memloop: error: " + out + ": ")) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(map)) << out;
+  }
+  const Outcome fixed = Memloop("run " + Images() + " --db " + map + " --out " +
+                                dir_.File("run.csv") + " --set memory.time_limit_ms=0");
+  EXPECT_EQ(fixed.exit_code, 0) << fixed.output;
+  // And the other way: a map refused creates no CSV.
+  const Outcome existing =
+      Memloop("run " + Images() + " --db " + map + " --out " + dir_.File("second.csv"));
+  EXPECT_EQ(existing.exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("second.csv")));
 }
 
 // run + eval on the generated route reproduce the precision and recall the run itself reports.

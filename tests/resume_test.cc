@@ -192,43 +192,6 @@ std::string IntegrityCheck(const std::string& path) {
   return verdict;
 }
 
-int CsvRows(const std::string& path) {
-  const std::string text = ReadFile(path);
-  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-  return std::max(0, lines - 1);
-}
-
-// Starts the tool with `arguments` (stdout and stderr to `log`); returns its pid.
-pid_t Start(const std::vector<std::string>& arguments, const std::string& log) {
-  const pid_t child = fork();
-  if (child == 0) {
-    freopen(log.c_str(), "w", stdout);
-    dup2(fileno(stdout), fileno(stderr));
-    std::vector<char*> argv = {const_cast<char*>(MEMLOOP_CLI)};
-    for (const std::string& argument : arguments)
-      argv.push_back(const_cast<char*>(argument.c_str()));
-    argv.push_back(nullptr);
-    execv(MEMLOOP_CLI, argv.data());
-    _exit(127);
-  }
-  return child;
-}
-
-// Kills `child` with SIGKILL once `csv` has at least `rows` rows; returns its wait status. On a
-// machine so busy that this thread sleeps through the rest of the run, the child exits first.
-int KillAfterRows(pid_t child, const std::string& csv, int rows) {
-  int status = 0;
-  while (waitpid(child, &status, WNOHANG) != child) {
-    if (CsvRows(csv) >= rows) {
-      kill(child, SIGKILL);
-      waitpid(child, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return status;
-}
-
 TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
   testing::TempDir dir;
   SyntheticRoute(ShortRoute()).Write(dir.path().string());
@@ -268,7 +231,7 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
     const pid_t child = Start(arguments, log);
     int status = 0;
     if (k < kill_rows.size()) {
-      status = KillAfterRows(child, csv, kill_rows[k]);
+      status = SignalAfterRows(child, csv, kill_rows[k], SIGKILL);
       killed += WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
     } else {
       waitpid(child, &status, 0);

@@ -14,6 +14,9 @@ class RunCsvWriter {
  public:
   // Throws InputError when `path` cannot be written.
   explicit RunCsvWriter(const std::string& path);
+  // Throws InputError, naming `path`, when a new CSV could not be written there (a folder, a
+  // missing or read-only folder, a read-only file); creates nothing.
+  static void CheckCanCreate(const std::string& path);
   // A resumed run's CSV: keeps the header and the rows of images up to `keep_through` (those the
   // map's checkpoint holds), drops later ones (they are processed again), and appends. A missing
   // file starts a new CSV. Throws InputError when the file is not a run CSV of this memloop.

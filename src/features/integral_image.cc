@@ -1,11 +1,23 @@
 #include "features/integral_image.h"
 
-#include <opencv2/imgproc.hpp>
-
 namespace memloop {
 
-IntegralImage::IntegralImage(const cv::Mat& gray) : rows_(gray.rows), cols_(gray.cols) {
-  cv::integral(gray, sum_, CV_32S);
+IntegralImage::IntegralImage(const cv::Mat& gray)
+    : sums_((static_cast<size_t>(gray.rows) + 1) * (gray.cols + 1), 0),
+      stride_(gray.cols + 1),
+      rows_(gray.rows),
+      cols_(gray.cols) {
+  CV_Assert(gray.type() == CV_8UC1);
+  for (int row = 0; row < rows_; ++row) {
+    const uint8_t* pixels = gray.ptr<uint8_t>(row);
+    const uint32_t* above = Row(row);
+    uint32_t* sums = sums_.data() + (static_cast<size_t>(row) + 1) * stride_;
+    uint32_t row_sum = 0;
+    for (int col = 0; col < cols_; ++col) {
+      row_sum += pixels[col];
+      sums[col + 1] = above[col + 1] + row_sum;
+    }
+  }
 }
 
 float IntegralImage::HaarX(int row, int col, int size) const {

@@ -36,6 +36,20 @@ TEST(IntegralImageTest, BoxSumsAgainstBruteForceAndClamped) {
   EXPECT_FLOAT_EQ(edges.HaarY(10, 10, 4), 0.0f);
 }
 
+// A bright 12 Mpx photo: the whole image sums to 3.06e9, past a signed 32-bit int. Box sums stay
+// exact everywhere, the far corner included (the UBSan build aborted here with an int table).
+TEST(IntegralImageTest, BoxSumsExactOnALargeBrightImage) {
+  cv::Mat gray(3000, 4000, CV_8U, cv::Scalar(255));
+  gray(cv::Rect(3990, 2990, 5, 10)).setTo(7);
+  const IntegralImage image(gray);
+  EXPECT_EQ(image.BoxSum(2990, 3990, 2999, 3999), 5 * 10 * 7 + 5 * 10 * 255);
+  EXPECT_EQ(image.BoxSum(0, 0, 99, 99), 100 * 100 * 255);
+  // Running sums of 2.04e9 above and 3.06e9 below: their difference crosses 2^31.
+  EXPECT_EQ(image.BoxSum(2000, 0, 2999, 3999), 1000 * 4000 * 255 - 5 * 10 * 248);
+  EXPECT_EQ(image.BoxSumInside(2900, 3900, 2989, 3999), 90 * 100 * 255);
+  EXPECT_FLOAT_EQ(image.HaarX(2994, 3995, 4), 255.0f - 7.0f);  // left half dark, right bright
+}
+
 TEST(FastHessianTest, FilterSizesOfTheSurfPaper) {
   const int expected[4][4] = {
       {9, 15, 21, 27}, {15, 27, 39, 51}, {27, 51, 75, 99}, {51, 99, 147, 195}};

@@ -14,6 +14,9 @@
 namespace memloop::cli {
 namespace {
 
+// The demo prints its scores, not a line per loop closure (hundreds on the route).
+constexpr SessionOptions kScoredSession{/*resume=*/false, /*print_loop_closures=*/false};
+
 // Frames rendered on demand from a generated sequence (SyntheticRoute or PlaceSequence).
 template <typename Generated>
 class GeneratedSequence : public ImageSequence {
@@ -114,8 +117,9 @@ void AddDemoCommand(CLI::App& app) {
                 << arguments->places.places << " places, " << places.revisits() << " revisits ("
                 << places.revisit_frames() << " images)\n";
       const SessionReport report =
-          RunSession(sequence, options, arguments->database, arguments->out);
+          RunSession(sequence, options, arguments->database, arguments->out, kScoredSession);
       PrintScored(places, report);
+      ThrowIfInterrupted(report, arguments->database);
       return;
     }
     SyntheticRouteOptions route_options;
@@ -125,8 +129,10 @@ void AddDemoCommand(CLI::App& app) {
     std::cout << "Synthetic route: " << route.size() << " images of " << route_options.image_width
               << "x" << route_options.image_height << ", " << route.GroundTruthPairs().size()
               << " ground-truth loop pairs\n";
-    const SessionReport report = RunSession(sequence, options, arguments->database, arguments->out);
+    const SessionReport report =
+        RunSession(sequence, options, arguments->database, arguments->out, kScoredSession);
     PrintScored(route, report);
+    ThrowIfInterrupted(report, arguments->database);
   });
 
   CLI::App* generate = app.add_subcommand(

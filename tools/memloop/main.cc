@@ -1,12 +1,14 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
 // Subcommands: run, demo, generate, eval, report, params. Exit codes: 0 success; 1 an error of
-// input, map or output ("memloop: error: ..." names the file); 2 a command-line usage error.
+// input, map or output ("memloop: error: ..." names the file); 2 a command-line usage error;
+// 130 / 143 a run stopped by SIGINT / SIGTERM (results and map complete up to the last image).
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "memloop/errors.h"
 #include "memloop/params.h"
 
@@ -41,6 +43,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     const int code = app.exit(error);  // prints help, or the usage error
     return code == 0 ? 0 : 2;
+  } catch (const memloop::cli::Interrupted& interrupted) {
+    std::cerr << "memloop: " << interrupted.what() << "\n";
+    return 128 + interrupted.signal();
   } catch (const std::exception& error) {
     std::cerr << "memloop: error: " << error.what() << "\n";
     return 1;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdio>
+#include <string>
 
 namespace memloop::cli {
 
@@ -10,10 +11,13 @@ class Progress {
   explicit Progress(int total);
   ~Progress();
   void Update(int done, int loop_closures);
+  // A whole line on `stream` (stdout or stderr), above the bar.
+  void Print(const std::string& line, std::FILE* stream);
 
  private:
   int total_;
   bool enabled_;
+  bool drawn_ = false;
 };
 
 }  // namespace memloop::cli

@@ -48,12 +48,12 @@ void AddRunCommand(CLI::App& app) {
       SetParameter(options, assignment);
     }
     auto sequence = ImageSequence::Open(arguments->input);
+    SessionOptions session;
+    session.resume = arguments->resume;
     const SessionReport report =
-        RunSession(*sequence, options, arguments->database, arguments->out, arguments->resume);
-    for (const Result& result : report.results) {
-      if (result.HasLoopClosure()) std::cout << result.Brief() << "\n";
-    }
+        RunSession(*sequence, options, arguments->database, arguments->out, session);
     std::cout << Summary(report) << "\n";
+    ThrowIfInterrupted(report, arguments->database);
     if (report.results.empty() && !arguments->resume) {
       throw InputError(arguments->input,
                        "no readable image (" + std::to_string(report.skipped) + " skipped)");

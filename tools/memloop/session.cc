@@ -1,16 +1,22 @@
 #include "session.h"
 
-#include <spdlog/spdlog.h>
+#include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 
+#include "interrupt.h"
 #include "memloop/detector.h"
+#include "memloop/errors.h"
 #include "memloop/run_csv.h"
 #include "progress.h"
 
@@ -19,64 +25,120 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A map file in the temporary folder, removed (with its WAL files) when this goes.
+constexpr const char* kTemporaryPrefix = "memloop-";
+
+bool ProcessIsGone(long pid) { return kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH; }
+
+// Temporary maps of runs that were killed (kill -9 leaves no chance to remove them):
+// "memloop-<pid>-<n>.db*" whose process is gone.
+void RemoveOrphanedTemporaryMaps(const fs::path& folder) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(kTemporaryPrefix, 0) != 0 || !entry.is_regular_file(error)) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + std::strlen(kTemporaryPrefix), &end, 10);
+    if (end == nullptr || *end != '-' || pid <= 0 || name.find(".db") == std::string::npos)
+      continue;
+    if (pid != getpid() && ProcessIsGone(pid)) fs::remove(entry.path(), error);
+  }
+}
+
+// A map file in the temporary folder, removed (with its WAL files) when this goes: at the end,
+// on an error and after SIGINT/SIGTERM; those of killed runs go at the next run's start.
 class TemporaryDatabase {
  public:
   TemporaryDatabase() {
     static std::atomic<int> counter{0};
-    path_ = (fs::temp_directory_path() /
-             ("memloop-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".db"))
+    const fs::path folder = fs::temp_directory_path();
+    RemoveOrphanedTemporaryMaps(folder);
+    path_ = (folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" +
+                       std::to_string(counter++) + ".db"))
                 .string();
   }
-  ~TemporaryDatabase() {
-    std::error_code ignored;
-    for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path_ + suffix, ignored);
-  }
+  ~TemporaryDatabase() { RemoveMap(path_); }
   const std::string& path() const { return path_; }
 
  private:
   std::string path_;
 };
 
+std::unique_ptr<Detector> OpenDetector(const Options& options, const std::string& path,
+                                       bool resume) {
+  return std::make_unique<Detector>(options, path, resume ? MapMode::kResume : MapMode::kNew);
+}
+
 }  // namespace
+
+void RemoveMap(const std::string& path) {
+  std::error_code ignored;
+  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
+}
 
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
-                         bool resume) {
+                         const SessionOptions& session) {
+  // Outputs are checked before anything is created: a refused run leaves no file behind.
+  if (!csv_path.empty() && !session.resume) RunCsvWriter::CheckCanCreate(csv_path);
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
-  Detector detector(options, temporary ? temporary->path() : database_path,
-                    resume ? MapMode::kResume : MapMode::kNew);
+  const std::string& map_path = temporary ? temporary->path() : database_path;
+  std::unique_ptr<Detector> detector = OpenDetector(options, map_path, session.resume);
   std::unique_ptr<RunCsvWriter> csv;
-  if (resume) {
-    std::cout << "resuming " << database_path << " after image " << detector.last_image() << " ("
-              << detector.images_processed() << " images in the map)" << std::endl;
-    sequence.SkipTo(detector.last_image() + 1);
-    if (!csv_path.empty()) csv = std::make_unique<RunCsvWriter>(csv_path, detector.last_image());
+  if (session.resume) {
+    std::cout << "resuming " << database_path << " after image " << detector->last_image() << " ("
+              << detector->images_processed() << " images in the map)" << std::endl;
+    sequence.SkipTo(detector->last_image() + 1);
+    if (!csv_path.empty()) {
+      csv = std::make_unique<RunCsvWriter>(csv_path, detector->last_image());
+    }
   } else if (!csv_path.empty()) {
-    csv = std::make_unique<RunCsvWriter>(csv_path);
+    try {
+      csv = std::make_unique<RunCsvWriter>(csv_path);
+    } catch (const Error&) {
+      detector.reset();
+      if (!temporary) RemoveMap(map_path);  // this run's new, empty map
+      throw;
+    }
   }
 
   SessionReport report;
   int loop_closures = 0;
   Progress progress(sequence.size());
+  const InterruptWatch interrupt;
   Frame frame;
-  while (sequence.Next(&frame)) {
+  while (interrupt.signal() == 0 && sequence.Next(&frame)) {
     if (!frame.error.empty()) {
-      spdlog::warn("skipping {}: {}", frame.name, frame.error);
+      progress.Print(fmt::format("warning: skipping {}: {}", frame.name, frame.error), stderr);
       ++report.skipped;
       continue;
     }
-    Result result = detector.Process(frame.image, frame.index);
-    loop_closures += result.HasLoopClosure();
+    Result result = detector->Process(frame.image, frame.index);
+    if (result.HasLoopClosure()) {
+      ++loop_closures;
+      if (session.print_loop_closures) progress.Print(result.Brief(), stdout);
+    }
     if (csv) csv->Write(frame.name, result);
     report.names.push_back(frame.name);
     report.results.push_back(std::move(result));
     progress.Update(frame.index + 1, loop_closures);
   }
-  detector.Close();
+  report.interrupted_by = interrupt.signal();
+  detector->Close();
   if (csv) csv->Close();
   return report;
+}
+
+void ThrowIfInterrupted(const SessionReport& report, const std::string& database_path) {
+  if (report.interrupted_by == 0) return;
+  const std::string last =
+      report.results.empty() ? "none" : std::to_string(report.results.back().image_index);
+  std::string message = "interrupted by " + SignalName(report.interrupted_by) + " after image " +
+                        last + "; the results are complete up to it";
+  if (!database_path.empty()) {
+    message += ", and the map " + database_path + " can go on with --resume";
+  }
+  throw Interrupted(report.interrupted_by, message);
 }
 
 std::string Summary(const SessionReport& report) {

@@ -12,16 +12,30 @@ namespace memloop::cli {
 struct SessionReport {
   std::vector<Result> results;  // one per processed image
   std::vector<std::string> names;
-  int skipped = 0;  // unreadable images, warned and skipped
+  int skipped = 0;         // unreadable images, warned and skipped
+  int interrupted_by = 0;  // SIGINT or SIGTERM that ended the run early, 0 if none
+};
+
+struct SessionOptions {
+  bool resume = false;              // go on with the map at the database path
+  bool print_loop_closures = true;  // a line on stdout per loop closure, as it is found
 };
 
 // Feeds every frame of `sequence` to a Detector writing its map to `database_path` ("" = a
-// temporary file removed afterwards), and the per-image rows to `csv_path` ("" = none). With
-// `resume`, the map in `database_path` goes on from its last checkpoint: frames up to the image
-// it holds are skipped, and the CSV keeps its rows up to that image.
+// temporary file removed afterwards), and the per-image rows to `csv_path` ("" = none), one
+// flushed row per image. With `resume`, the map in `database_path` goes on from its last
+// checkpoint: frames up to the image it holds are skipped, and the CSV keeps its rows up to that
+// image. Outputs are checked before any is created. SIGINT/SIGTERM end the run after the current
+// image, with the map closed (see interrupted_by).
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
-                         bool resume = false);
+                         const SessionOptions& session = {});
+
+// After the summary is printed: throws Interrupted when a signal ended the run.
+void ThrowIfInterrupted(const SessionReport& report, const std::string& database_path);
+
+// A map file and its WAL files.
+void RemoveMap(const std::string& path);
 
 // "images: 130 processed, 0 skipped; loop closures: 52; iteration time: median 12.1 ms, max ..."
 std::string Summary(const SessionReport& report);
