@@ -151,7 +151,7 @@ GroundTruth GroundTruth::Load(const std::string& path, GroundTruthFormat format,
   cv::Mat labels;
   switch (format) {
     case GroundTruthFormat::kMat:
-      labels = LoadMatFile(path);
+      labels = LoadMatFile(path, image_count);
       break;
     case GroundTruthFormat::kImage:
       labels = LoadImage(path);

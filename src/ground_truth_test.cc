@@ -4,8 +4,12 @@
 #include <matio.h>
 
 #include <array>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "memloop/errors.h"
 #include "temp_dir.h"
@@ -89,6 +93,52 @@ TEST_F(GroundTruthTest, MatlabFile) {
   Mat_VarFree(matrix);
   Mat_Close(file);
   ExpectExample(GroundTruth::Load(path, GroundTruthFormat::kAuto, names_, 4), true);
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Writes a 4x4 double matrix (or `side` x `side`) as variable "truth" of a v5 .mat file.
+std::string WriteMat(const std::string& path, matio_compression compression, size_t side = 4) {
+  std::vector<double> values(side * side, 0.0);
+  mat_t* file = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  size_t dims[2] = {side, side};
+  matvar_t* matrix = Mat_VarCreate("truth", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, values.data(), 0);
+  Mat_VarWrite(file, matrix, compression);
+  Mat_VarFree(matrix);
+  Mat_Close(file);
+  return path;
+}
+
+// libmatio reads a truncated matrix as zeros and allocates what a header declares: both are
+// caught before any data is read.
+TEST_F(GroundTruthTest, TruncatedOrOversizedMatFilesAreRefusedBeforeReading) {
+  for (const auto compression : {MAT_COMPRESSION_NONE, MAT_COMPRESSION_ZLIB}) {
+    const std::string path = WriteMat(dir_.File("cut.mat"), compression, 40);
+    const auto size = std::filesystem::file_size(path);
+    std::filesystem::resize_file(path, size - 20);
+    ExpectError(path, "the .mat file is truncated: variable 1 needs", 40);
+  }
+  // A matrix of 100,000 x 100,000 declared in a few hundred bytes: refused from its header.
+  const std::string huge = WriteMat(dir_.File("huge.mat"), MAT_COMPRESSION_NONE);
+  std::string bytes = ReadFile(huge);
+  const std::string four(reinterpret_cast<const char*>(std::array<int32_t, 2>{4, 4}.data()), 8);
+  const size_t at = bytes.find(four);
+  ASSERT_NE(at, std::string::npos);
+  const std::array<int32_t, 2> declared = {100000, 100000};
+  bytes.replace(at, 8, reinterpret_cast<const char*>(declared.data()), 8);
+  std::ofstream(huge, std::ios::binary | std::ios::trunc) << bytes;
+  ExpectError(huge, "the ground truth is 100000x100000 but the run has 4 images");
+  // Dimensions the run's, data too short for them: an element smaller than its matrix.
+  const std::string short_data = WriteMat(dir_.File("short.mat"), MAT_COMPRESSION_NONE, 2);
+  bytes = ReadFile(short_data);
+  const std::string two(reinterpret_cast<const char*>(std::array<int32_t, 2>{2, 2}.data()), 8);
+  const std::array<int32_t, 2> twenty = {20, 20};
+  bytes.replace(bytes.find(two), 8, reinterpret_cast<const char*>(twenty.data()), 8);
+  std::ofstream(short_data, std::ios::binary | std::ios::trunc) << bytes;
+  ExpectError(short_data, "declares 20x20 values but holds", 20);
 }
 
 TEST_F(GroundTruthTest, MalformedGroundTruthIsRefusedWithTheReason) {

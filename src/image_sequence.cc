@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -12,6 +15,43 @@ namespace memloop {
 namespace {
 
 namespace fs = std::filesystem;
+
+// libjpeg decodes a JPEG cut short without an error (the missing rows grey), and OpenCV's only
+// word is a warning on stderr. A complete JPEG ends with its EOI marker (FF D9), which cannot
+// occur inside the entropy-coded data; a few writers append bytes after it, so the last
+// kilobyte is searched.
+bool IsTruncatedJpeg(const std::vector<unsigned char>& bytes) {
+  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return false;  // not a JPEG
+  const size_t from = bytes.size() > 1024 ? bytes.size() - 1024 : 2;
+  for (size_t i = bytes.size() - 1; i > from; --i) {
+    if (bytes[i - 1] == 0xFF && bytes[i] == 0xD9) return false;
+  }
+  return true;
+}
+
+// The image at `path` in colour, or `error` saying why there is none.
+cv::Mat ReadImage(const std::string& path, std::string* error) {
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+  if (!in.good() && !in.eof()) {
+    *error = "cannot be read";
+    return cv::Mat();
+  }
+  if (IsTruncatedJpeg(bytes)) {
+    *error = "truncated JPEG (no end-of-image marker)";
+    return cv::Mat();
+  }
+  cv::Mat image;
+  try {
+    if (!bytes.empty()) image = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  } catch (const cv::Exception& exception) {
+    *error = exception.what();
+  }
+  if (image.empty() && error->empty()) {
+    *error = "not a readable image (corrupt, truncated or not an image)";
+  }
+  return image;
+}
 
 class FolderSequence : public ImageSequence {
  public:
@@ -27,16 +67,8 @@ class FolderSequence : public ImageSequence {
     frame->index = static_cast<ImageIndex>(next_);
     frame->name = names_[next_++];
     const std::string path = (fs::path(folder_) / frame->name).string();
-    frame->image = cv::Mat();
     frame->error.clear();
-    try {
-      frame->image = cv::imread(path, cv::IMREAD_COLOR);
-    } catch (const cv::Exception& error) {
-      frame->error = error.what();
-    }
-    if (frame->image.empty() && frame->error.empty()) {
-      frame->error = "not a readable image (corrupt, truncated or not an image)";
-    }
+    frame->image = ReadImage(path, &frame->error);
     return true;
   }
   int size() const override { return static_cast<int>(names_.size()); }
