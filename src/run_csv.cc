@@ -108,22 +108,26 @@ RunCsvWriter::RunCsvWriter(const std::string& path, ImageIndex keep_through) : p
 
 void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   const StageTimes& t = result.times;
-  out_ << result.image_index << ',' << Quoted(image_name) << ',' << result.location_id << ',';
+  // The row is formatted first and written at once: a kill leaves whole rows only.
+  std::ostringstream row;
+  row << result.image_index << ',' << Quoted(image_name) << ',' << result.location_id << ',';
   if (result.HasLoopClosure()) {
-    out_ << result.loop_closure_images.front() << ',' << result.loop_closure_id << ','
-         << Join(result.loop_closure_images);
+    row << result.loop_closure_images.front() << ',' << result.loop_closure_id << ','
+        << Join(result.loop_closure_images);
   } else {
-    out_ << ",,";
+    row << ",,";
   }
-  out_ << ',' << result.hypothesis_id << ',' << result.hypothesis_value << ','
-       << Join(result.hypothesis_images) << ',' << result.hypothesis_eligible << ','
-       << result.hypothesis_inliers << ',' << result.virtual_place_probability << ','
-       << result.rehearsal_merged_id << ',' << result.feature_count << ',' << result.word_count
-       << ',' << t.total_ms << ',' << t.signature_ms << ',' << t.rehearsal_ms << ','
-       << t.likelihood_ms << ',' << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms
-       << ',' << t.transfer_ms << ',' << t.checkpoint_ms << ',' << result.stm_size << ','
-       << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
-       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << '\n';
+  row << ',' << result.hypothesis_id << ',' << result.hypothesis_value << ','
+      << Join(result.hypothesis_images) << ',' << result.hypothesis_eligible << ','
+      << result.hypothesis_inliers << ',' << result.virtual_place_probability << ','
+      << result.rehearsal_merged_id << ',' << result.feature_count << ',' << result.word_count
+      << ',' << t.total_ms << ',' << t.signature_ms << ',' << t.rehearsal_ms << ','
+      << t.likelihood_ms << ',' << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms
+      << ',' << t.transfer_ms << ',' << t.checkpoint_ms << ',' << result.stm_size << ','
+      << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
+      << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << '\n';
+  const std::string text = row.str();
+  out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
   if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
 }

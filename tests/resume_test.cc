@@ -253,6 +253,8 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
     }
     if (k < kill_rows.size()) {
       rows_at_kill = CsvRows(csv);
+      const std::string text = ReadFile(csv);
+      EXPECT_TRUE(text.empty() || text.back() == '\n') << "kill " << k << ": the CSV ends mid-line";
       EXPECT_EQ(IntegrityCheck(map), "ok") << "after kill " << k;
     }
   }
