@@ -8,12 +8,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "bayes_filter.h"
-#include "dictionary.h"
-#include "likelihood.h"
+#include "detector/bayes_filter.h"
+#include "detector/likelihood.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
+#include "vocabulary/dictionary.h"
 
 namespace memloop {
 namespace {

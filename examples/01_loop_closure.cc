@@ -6,7 +6,8 @@
 // (memloop::ImageSequence::Open) or a camera.
 //
 // Usage: 01_loop_closure [MAP_FILE]
-#include <memloop/memloop.h>  // Detector, Options, Result, SyntheticRoute
+#include <memloop/memloop.h>          // Detector, Options, Result
+#include <memloop/synthetic_route.h>  // SyntheticRoute (memloop::synthetic)
 
 #include <cstdio>
 #include <iostream>

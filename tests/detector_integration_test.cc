@@ -6,12 +6,12 @@
 #include <random>
 #include <set>
 
-#include "ltm_database.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/evaluation.h"
 #include "memloop/synthetic_route.h"
 #include "short_route.h"
+#include "storage/ltm_database.h"
 #include "temp_dir.h"
 
 namespace memloop {

@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "bayes_filter.h"
-#include "consistency.h"
-#include "long_term_memory.h"
-#include "map_editor.h"
+#include "detector/bayes_filter.h"
+#include "detector/consistency.h"
+#include "detector/map_editor.h"
 #include "small_memory.h"
+#include "storage/long_term_memory.h"
 #include "temp_dir.h"
 
 namespace memloop::testing {

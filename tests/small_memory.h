@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "memory.h"
+#include "detector/memory.h"
 
 namespace memloop::testing {
 

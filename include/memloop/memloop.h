@@ -1,14 +1,15 @@
-// Everything a user of memloop needs.
+// Everything a program needs to detect loop closures (CMake target memloop::memloop).
+//
+// The other parts have their own headers and targets:
+//   memloop/evaluation.h, ground_truth.h, run_csv.h, report.h   memloop::eval
+//   memloop/synthetic_route.h, place_sequence.h                 memloop::synthetic
 #pragma once
 
 #include "memloop/detector.h"
 #include "memloop/errors.h"
-#include "memloop/evaluation.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
 #include "memloop/options.h"
 #include "memloop/params.h"
-#include "memloop/place_sequence.h"
 #include "memloop/result.h"
-#include "memloop/synthetic_route.h"
 #include "memloop/types.h"

@@ -1,0 +1,76 @@
+// Resume after a restart or a crash. Besides LTM, a map file holds a checkpoint of what the
+// detector keeps in RAM: the STM and WM locations, the dictionary's words with the history of its
+// kd-forest (replayed point by point, so searches give the same words as before), the filter's
+// posterior, the past matches waiting to be absorbed and the detector's counters. A checkpoint
+// is committed in the same transaction as every LTM write queued before it, and the writer
+// commits only whole checkpoints (long_term_memory.h), so the file always holds one consistent
+// moment of the run. Only what changed since the previous checkpoint is written.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "detector/bayes_filter.h"
+#include "detector/map_editor.h"
+#include "detector/memory.h"
+#include "storage/ltm_database.h"
+#include "vocabulary/word_index.h"
+
+namespace memloop {
+
+struct DetectorCounters {
+  ImageIndex last_image = kNoImage;  // the last image processed
+  long long images_processed = 0;
+  LocationId newest_location = kNoLocation;  // L_t-1 for the next image
+};
+
+// Everything a resumed detector starts from.
+struct ResumeState {
+  DetectorCounters counters;
+  std::map<LocationId, Location> locations;  // STM and WM
+  std::deque<LocationId> stm;                // oldest first
+  LocationId next_location_id = 1;
+  std::vector<WordId> words;  // the dictionary: the words of `locations`
+  std::vector<WordId> words_referenced_by_ltm;
+  WordId next_word_id = 1;
+  IndexHistory index;
+  std::map<LocationId, double> posterior;
+  double virtual_place = 1;
+  std::vector<PastMatch> past_matches;
+};
+
+class CheckpointWriter {
+ public:
+  // What changed since the previous call (everything at the first call of this object).
+  CheckpointData Next(const Memory& memory, const BayesFilter& filter,
+                      const std::vector<PastMatch>& past_matches, const DetectorCounters& counters);
+
+ private:
+  void AddState(CheckpointData& checkpoint, const std::string& key,
+                std::vector<unsigned char> value);
+
+  bool first_ = true;
+  std::unordered_map<LocationId, size_t> location_hashes_;  // as last written
+  std::unordered_map<std::string, size_t> state_hashes_;
+  int index_build_count_ = -1;
+  size_t index_points_written_ = 0;
+  std::unordered_set<WordId> descriptors_written_;       // words whose descriptor the file holds
+  std::set<WordId> descriptors_to_forget_;               // held, but named by no point any more
+  std::pair<int, size_t> pending_words_written_{-1, 0};  // (build count, snapshot point)
+};
+
+// Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError
+// naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged.
+ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
+
+// The location as a checkpoint row, and back (throws Error when the bytes are not one).
+std::vector<unsigned char> EncodeLocation(const Location& location);
+Location DecodeLocation(const std::vector<unsigned char>& bytes);
+
+}  // namespace memloop

@@ -1,0 +1,246 @@
+#include "detector/checkpoint.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "memloop/errors.h"
+#include "small_memory.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+using testing::AddChain;
+using testing::SmallDictionaryOptions;
+
+Location SampleLocation() {
+  Location location;
+  location.id = 7;
+  location.weight = 3;
+  location.signature = testing::MakeSignature({4, 9, 4});
+  location.neighbours = {6, 8};
+  location.loop_closures = {2};
+  location.images = {7, 12};
+  return location;
+}
+
+TEST(CheckpointTest, LocationsRoundTripExactly) {
+  const Location location = SampleLocation();
+  const Location decoded = DecodeLocation(EncodeLocation(location));
+  EXPECT_EQ(decoded.id, 7);
+  EXPECT_EQ(decoded.weight, 3);
+  EXPECT_EQ(decoded.signature.words, location.signature.words);
+  ASSERT_EQ(decoded.signature.keypoints.size(), 3u);
+  EXPECT_EQ(decoded.signature.keypoints[2].pt, location.signature.keypoints[2].pt);
+  EXPECT_EQ(decoded.signature.keypoints[2].octave, 1);
+  EXPECT_EQ(decoded.neighbours, location.neighbours);
+  EXPECT_EQ(decoded.loop_closures, location.loop_closures);
+  EXPECT_EQ(decoded.images, location.images);
+}
+
+TEST(CheckpointTest, DamagedLocationBytesAreRefused) {
+  std::vector<unsigned char> bytes = EncodeLocation(SampleLocation());
+  std::vector<unsigned char> cut(bytes.begin(), bytes.end() - 3);
+  EXPECT_THROW(DecodeLocation(cut), Error);
+  bytes.push_back(0);
+  EXPECT_THROW(DecodeLocation(bytes), Error);
+  // A count far larger than the bytes left is refused before anything is allocated.
+  std::vector<unsigned char> huge = EncodeLocation(SampleLocation());
+  huge[15] = 0x7f;  // the image count's most significant byte
+  EXPECT_THROW(DecodeLocation(huge), Error);
+}
+
+class CheckpointWriterTest : public ::testing::Test {
+ protected:
+  CheckpointWriterTest()
+      : memory_(DescriptorKind::kFloat, 2, Options()), filter_(FilterOptions()) {}
+
+  static DictionaryOptions Options() {
+    DictionaryOptions options = SmallDictionaryOptions();
+    options.rebuild_fraction = 100;  // points stay in the order they came
+    return options;
+  }
+
+  CheckpointData Next() { return writer_.Next(memory_, filter_, past_matches_, counters_); }
+
+  Memory memory_;
+  BayesFilter filter_;
+  std::vector<PastMatch> past_matches_;
+  DetectorCounters counters_;
+  CheckpointWriter writer_;
+};
+
+TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
+  AddChain(memory_, {{1, 2}, {2, 3}, {4}});  // words 1-4, one Add each
+  CheckpointData first = Next();
+  EXPECT_TRUE(first.full);
+  EXPECT_EQ(first.locations.size(), 3u);
+  EXPECT_EQ(first.index_points.size(), 4u);
+  EXPECT_EQ(first.state.size(), 7u);  // counters, stm, dictionary, index (and pending build),
+                                      // filter, past matches
+
+  const CheckpointData unchanged = Next();
+  EXPECT_FALSE(unchanged.full);
+  EXPECT_TRUE(unchanged.locations.empty());
+  EXPECT_TRUE(unchanged.removed_locations.empty());
+  EXPECT_TRUE(unchanged.index_points.empty());
+  EXPECT_TRUE(unchanged.state.empty());
+
+  memory_.at(2).weight = 5;
+  AddChain(memory_, {{5}});  // location 4 with a new word: one new index point
+  counters_.last_image = 3;
+  const CheckpointData changed = Next();
+  ASSERT_EQ(changed.locations.size(), 2u);  // 2 (weight) and 4 (new, a chain of its own)
+  EXPECT_EQ(changed.locations[0].first, 2);
+  EXPECT_EQ(changed.locations[1].first, 4);
+  EXPECT_FALSE(changed.reset_index);
+  ASSERT_EQ(changed.index_points.size(), 1u);
+  EXPECT_EQ(changed.index_points[0].point, 4);
+  EXPECT_EQ(changed.index_points[0].word, 5);
+  EXPECT_EQ(changed.state.size(), 3u);  // counters, stm, index
+
+  std::vector<WordId> orphans;
+  memory_.MoveStmOverflowToWm(0);
+  memory_.Release(1, &orphans);
+  const CheckpointData removed = Next();
+  EXPECT_EQ(removed.removed_locations, (std::vector<LocationId>{1}));
+}
+
+TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory_, {{1, 2}, {2, 3}, {4}, {1, 4}});
+  memory_.MoveStmOverflowToWm(2);
+  filter_.Reload({{1, 0.25}, {2, 0.5}}, 0.25);
+  past_matches_ = {{1, 4}};
+  counters_ = {11, 12, 4};
+  database.WriteCheckpoint(Next());
+  memory_.at(3).weight = 2;
+  database.WriteCheckpoint(Next());
+
+  Memory reloaded_memory(DescriptorKind::kFloat, 2, Options());
+  const ResumeState state = ReadCheckpoint(database, reloaded_memory.dictionary());
+  EXPECT_EQ(state.counters.last_image, 11);
+  EXPECT_EQ(state.counters.images_processed, 12);
+  EXPECT_EQ(state.counters.newest_location, 4);
+  EXPECT_EQ(state.next_location_id, 5);
+  EXPECT_EQ(state.next_word_id, 5);
+  EXPECT_EQ(state.stm, (std::deque<LocationId>{3, 4}));
+  EXPECT_EQ(state.words, (std::vector<WordId>{1, 2, 3, 4}));
+  ASSERT_EQ(state.locations.size(), 4u);
+  EXPECT_EQ(state.locations.at(3).weight, 2);
+  EXPECT_EQ(state.locations.at(4).signature.words, (std::vector<WordId>{1, 4}));
+  EXPECT_EQ(state.posterior, (std::map<LocationId, double>{{1, 0.25}, {2, 0.5}}));
+  EXPECT_EQ(state.virtual_place, 0.25);
+  ASSERT_EQ(state.past_matches.size(), 1u);
+  EXPECT_EQ(state.past_matches[0].matcher, 4);
+  EXPECT_EQ(state.index.point_count, 4u);
+  EXPECT_EQ(state.index.point_words, (std::vector<WordId>{1, 2, 3, 4}));
+
+  // The reloaded dictionary finds the words where the original does.
+  reloaded_memory.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
+                                      state.next_word_id);
+  reloaded_memory.Reload(state.locations, state.stm, state.next_location_id);
+  const cv::Mat probe = (cv::Mat_<float>(2, 2) << 301, 0, 99, 0);
+  EXPECT_EQ(reloaded_memory.dictionary().Match(probe), memory_.dictionary().Match(probe));
+  EXPECT_EQ(reloaded_memory.dictionary().References(4), memory_.dictionary().References(4));
+  EXPECT_EQ(reloaded_memory.working_memory(), memory_.working_memory());
+}
+
+// After a rebuild every point is written again, but a word's descriptor only once (issue 9: a
+// rebuild at 160,000 words rewrote 40 MB inside the iteration).
+TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds) {
+  DictionaryOptions options = SmallDictionaryOptions();
+  options.rebuild_fraction = 1.0;
+  options.rebuild_delay = 0;  // rebuilt inside the Add that crosses the fraction
+  Memory memory(DescriptorKind::kFloat, 2, options);
+  BayesFilter filter{FilterOptions()};
+  CheckpointWriter writer;
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory, {{1, 2}, {3}});                // builds: {1}, then 2 and 3 added one by one
+  testing::AddWords(memory.dictionary(), {100});  // a word no location holds
+  const int builds = memory.dictionary().index().build_count();
+  database.WriteCheckpoint(writer.Next(memory, filter, {}, {}));
+  memory.dictionary().Remove(100);  // its descriptor is deleted after the rebuild
+  WordId word = 4;
+  while (memory.dictionary().index().build_count() == builds) AddChain(memory, {{word++}});
+  const CheckpointData rebuilt = writer.Next(memory, filter, {}, {});
+  ASSERT_TRUE(rebuilt.reset_index);
+  EXPECT_EQ(rebuilt.index_points.size(), memory.dictionary().size());
+  for (const CheckpointData::Point& point : rebuilt.index_points) {
+    EXPECT_EQ(point.descriptor.empty(), point.word <= 3) << "word " << point.word;
+  }
+  EXPECT_EQ(rebuilt.forgotten_descriptors, (std::vector<WordId>{100}));
+  database.WriteCheckpoint(rebuilt);
+  Memory reloaded(DescriptorKind::kFloat, 2, options);
+  const ResumeState state = ReadCheckpoint(database, reloaded.dictionary());
+  EXPECT_TRUE(state.index.point_words.end() ==
+              std::find(state.index.point_words.begin(), state.index.point_words.end(), 100));
+  ASSERT_EQ(state.index.point_words.size(), memory.dictionary().size());
+  for (size_t point = 0; point < state.index.point_words.size(); ++point) {
+    const cv::Mat expected = memory.dictionary().Descriptor(state.index.point_words[point]);
+    EXPECT_EQ(cv::norm(state.index.descriptors.row(static_cast<int>(point)), expected, cv::NORM_L1),
+              0.0)
+        << "point " << point;
+  }
+}
+
+// A background build's snapshot words are written once; its age, which changes at every
+// insertion, apart. Read back, the checkpoint holds both.
+TEST(CheckpointIndexTest, PendingBuildWordsAreWrittenOncePerBuild) {
+  DictionaryOptions options = SmallDictionaryOptions();
+  options.rebuild_fraction = 1.0;
+  options.rebuild_delay = 100;  // the build stays pending through the test
+  Memory memory(DescriptorKind::kFloat, 2, options);
+  BayesFilter filter{FilterOptions()};
+  CheckpointWriter writer;
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory, {{1}, {2}, {3}});  // 1 built, 2 added (1 change), 3 added (2 > 1): pending
+  ASSERT_TRUE(memory.dictionary().index().History(0).pending);
+  const auto keys = [](const CheckpointData& checkpoint) {
+    std::set<std::string> written;
+    for (const auto& [key, value] : checkpoint.state) written.insert(key);
+    return written;
+  };
+  const CheckpointData first = writer.Next(memory, filter, {}, {});
+  EXPECT_TRUE(keys(first).count("index_pending_words"));
+  database.WriteCheckpoint(first);
+  AddChain(memory, {{4}});  // one more insertion: the age changes, the words do not
+  const CheckpointData second = writer.Next(memory, filter, {}, {});
+  EXPECT_TRUE(keys(second).count("index_pending"));
+  EXPECT_FALSE(keys(second).count("index_pending_words"));
+  database.WriteCheckpoint(second);
+  Memory reloaded(DescriptorKind::kFloat, 2, options);
+  const ResumeState state = ReadCheckpoint(database, reloaded.dictionary());
+  EXPECT_TRUE(state.index.pending);
+  EXPECT_EQ(state.index.pending_age, 1);
+  EXPECT_EQ(state.index.pending_words, memory.dictionary().index().PendingWords());
+}
+
+TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  try {
+    ReadCheckpoint(database, memory_.dictionary());
+    ADD_FAILURE() << "a map without checkpoint was read";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("no resume checkpoint"), std::string::npos)
+        << error.what();
+  }
+  AddChain(memory_, {{1, 2}});
+  CheckpointData checkpoint = Next();
+  checkpoint.locations[0].second.resize(5);
+  database.WriteCheckpoint(checkpoint);
+  try {
+    ReadCheckpoint(database, memory_.dictionary());
+    ADD_FAILURE() << "a truncated location was read";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,436 @@
+#include "memloop/detector.h"
+
+#include <opencv2/imgproc.hpp>
+#include <set>
+
+#include "detector/bayes_filter.h"
+#include "detector/checkpoint.h"
+#include "detector/consistency.h"
+#include "detector/epipolar_check.h"
+#include "detector/hypothesis.h"
+#include "detector/likelihood.h"
+#include "detector/map_editor.h"
+#include "detector/memory.h"
+#include "detector/rehearsal.h"
+#include "detector/retrieval.h"
+#include "detector/stopwatch.h"
+#include "detector/transfer.h"
+#include "memloop/errors.h"
+#include "memloop/feature_extractor.h"
+#include "memloop/params.h"
+#include "storage/long_term_memory.h"
+
+namespace memloop {
+namespace {
+
+cv::Mat ToGray(const cv::Mat& image) {
+  if (image.empty()) throw InputError("image", "empty image");
+  if (image.depth() != CV_8U) throw InputError("image", "not an 8-bit image");
+  cv::Mat gray;
+  switch (image.channels()) {
+    case 1:
+      return image;
+    case 3:
+      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+      return gray;
+    case 4:
+      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
+      return gray;
+    default:
+      throw InputError("image", "unsupported number of channels");
+  }
+}
+
+const Options& Validated(const Options& options) {
+  ValidateOptions(options);
+  return options;
+}
+
+Options OptionsOf(LtmDatabase& database) {
+  Options options;
+  for (const Parameter& parameter : Parameters()) {
+    const std::string value = database.ReadInfo("param." + parameter.key);
+    if (value.empty()) continue;  // a parameter newer than the map: its default
+    try {
+      parameter.Set(options, value);
+    } catch (const Error& error) {
+      throw DatabaseError(database.path(),
+                          std::string("its parameter table is damaged (") + error.what() + ")");
+    }
+  }
+  return options;
+}
+
+// Resuming with other values of the parameters that define the map is refused, naming each.
+void CheckMapParameters(LtmDatabase& database, const Options& options) {
+  const Options map_options = OptionsOf(database);
+  std::string differences;
+  for (const Parameter& parameter : Parameters()) {
+    if (!parameter.DefinesMap()) continue;
+    const std::string map_value = parameter.Get(map_options);
+    const std::string value = parameter.Get(options);
+    if (map_value == value) continue;
+    differences += (differences.empty() ? "" : ", ") + parameter.key + " (map: " + map_value +
+                   ", given: " + value + ")";
+  }
+  if (!differences.empty()) {
+    throw ParameterError("", database.path() +
+                                 ": cannot resume with other values of parameters "
+                                 "that define the map: " +
+                                 differences);
+  }
+}
+
+// WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
+FilterOptions SelectionOptions(const Options& options) {
+  FilterOptions selection = options.filter;
+  if (options.memory.max_wm_locations > 0) {
+    selection.min_hypotheses = std::min(selection.min_hypotheses, options.memory.max_wm_locations);
+  }
+  return selection;
+}
+
+// With T_time on, runs depend on the machine anyway: a forest rebuilt in the background is used as
+// soon as it is ready, never waited for. With T_time off it is used at a fixed insertion count.
+DictionaryOptions DictionaryOptionsOf(const Options& options) {
+  DictionaryOptions dictionary = options.dictionary;
+  dictionary.rebuild_swap_when_ready = options.memory.time_limit_ms > 0;
+  return dictionary;
+}
+
+}  // namespace
+
+Options ReadMapOptions(const std::string& path) {
+  LtmDatabase database(path, LtmDatabase::Mode::kRead);
+  return OptionsOf(database);
+}
+
+class Detector::Impl {
+ public:
+  Impl(const Options& options, const std::string& database_path, MapMode mode)
+      : options_(Validated(options)),
+        selection_options_(SelectionOptions(options_)),
+        extractor_(FeatureExtractor::Create(options.features)),
+        memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
+        filter_(options.filter),
+        ltm_(database_path,
+             mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate),
+        editor_(memory_, ltm_, filter_) {
+    if (mode == MapMode::kResume) Resume(database_path);  // nothing is written before it passes
+    for (const Parameter& parameter : Parameters()) {
+      ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
+    }
+  }
+
+  // The paper's Fig. 1, one call per box.
+  Result Process(const cv::Mat& image, ImageIndex image_index) {
+    if (closed_) throw Error("Detector::Process called after Close()");
+    if (failed_) throw Error("Detector::Process called after a failed iteration");
+    ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
+    const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
+    try {
+      return Iterate(gray, image_index);
+    } catch (...) {
+      failed_ = true;  // memory is half-updated: the file stays at its last checkpoint
+      throw;
+    }
+  }
+
+  void Flush() {
+    if (!failed_ && !closed_) WriteCheckpoint();
+    ltm_.Flush();
+  }
+  ImageIndex last_image() const { return counters_.last_image; }
+  long long images_processed() const { return counters_.images_processed; }
+  void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
+  std::vector<std::string> CheckConsistency() {
+    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches());
+  }
+
+  // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map,
+  // and a checkpoint so that it can be resumed.
+  void Close() {
+    if (closed_) return;
+    closed_ = true;
+    if (failed_) return;
+    std::set<WordId> words;
+    for (const auto& [id, location] : memory_.locations()) {
+      ltm_.Store(location);
+      words.insert(location.signature.words.begin(), location.signature.words.end());
+    }
+    for (WordId word : words) ltm_.StoreWord(word, memory_.dictionary().Descriptor(word));
+    WriteCheckpoint();
+    ltm_.Flush();
+  }
+
+  const Options& options() const { return options_; }
+
+ private:
+  // The paper's Fig. 1, one call per box, then the resume checkpoint.
+  Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
+    Stopwatch iteration;
+    Result result;
+    result.processed = true;
+    result.image_index = image_index == kNoImage ? counters_.images_processed : image_index;
+    ++counters_.images_processed;
+    counters_.last_image = result.image_index;
+    dictionary_size_at_start_ = memory_.dictionary().size();
+    retrieved_this_iteration_.clear();
+
+    const LocationId t = CreateLocation(gray, result);                       // III-A
+    Rehearse(t, result);                                                     // III-B, eq. 1
+    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                   // STM -> WM
+    const Likelihood likelihood = ComputeObservation(t, result);             // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Hypothesis hypothesis =
+        SelectLoopClosure(t, likelihood, neighbourhoods, result);  // III-D
+    RetrieveNeighbours(hypothesis, result);                        // III-E
+    TransferToLtm(iteration, hypothesis, result);                  // III-F
+    Checkpoint(result);
+    Summarize(t, iteration, result);
+    return result;
+  }
+
+  // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
+  // checking that the map was made with the same map-defining parameters.
+  void Resume(const std::string& path) {
+    LtmDatabase database(path, LtmDatabase::Mode::kAttach);  // ltm_ checked the file
+    CheckMapParameters(database, options_);
+    ResumeState state = ReadCheckpoint(database, memory_.dictionary());
+    try {
+      memory_.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
+                                  state.next_word_id);
+      memory_.Reload(std::move(state.locations), state.stm, state.next_location_id);
+    } catch (const DatabaseError&) {
+      throw;
+    } catch (const Error& error) {
+      throw DatabaseError(path,
+                          std::string("cannot resume: the map is damaged (") + error.what() + ")");
+    }
+    for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
+    filter_.Reload(std::move(state.posterior), state.virtual_place);
+    editor_.SetPastMatches(std::move(state.past_matches));
+    counters_ = state.counters;
+    const std::vector<std::string> problems = CheckConsistency();
+    if (!problems.empty()) {
+      throw DatabaseError(
+          path, "cannot resume: the map is inconsistent (" + problems.front() +
+                    (problems.size() > 1
+                         ? ", and " + std::to_string(problems.size() - 1) + " more problems)"
+                         : ")"));
+    }
+  }
+
+  void Checkpoint(Result& result) {
+    if (counters_.images_processed % options_.memory.checkpoint_interval != 0) return;
+    // With T_time on, a checkpoint the writer has not committed yet (SQLite folding its WAL into
+    // the file takes 100 ms at times) is not waited for: this image's is skipped, at most
+    // kMaxSkippedCheckpoints in a row, and the next one holds its changes too (issue 9). A crash
+    // then loses up to that many images more; with T_time off nothing is skipped.
+    if (options_.memory.time_limit_ms > 0 && skipped_checkpoints_ < kMaxSkippedCheckpoints &&
+        ltm_.CheckpointInFlight()) {
+      ++skipped_checkpoints_;
+      return;
+    }
+    skipped_checkpoints_ = 0;
+    {
+      ScopedTimer timer(&result.times.checkpoint_ms);
+      WriteCheckpoint();
+    }
+    last_checkpoint_ms_ = result.times.checkpoint_ms;
+  }
+
+  void WriteCheckpoint() {
+    ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_));
+    memory_.ClearChanged();
+  }
+
+  LocationId CreateLocation(const cv::Mat& gray, Result& result) {
+    ScopedTimer timer(&result.times.signature_ms);
+    const Features features = extractor_->Extract(gray);
+    int new_words = 0;
+    Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    const Location& location =
+        memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
+    counters_.newest_location = location.id;
+    result.feature_count = static_cast<int>(features.keypoints.size());
+    return location.id;
+  }
+
+  void Rehearse(LocationId t, Result& result) {
+    ScopedTimer timer(&result.times.rehearsal_ms);
+    const RehearsalOutcome outcome =
+        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_);
+    result.rehearsal_merged_id = outcome.merged_id;
+  }
+
+  Likelihood ComputeObservation(LocationId t, Result& result) {
+    ScopedTimer timer(&result.times.likelihood_ms);
+    const Signature& z_t = memory_.at(t).signature;
+    return ComputeLikelihood(options_.filter.likelihood == "tfidf"
+                                 ? ScoreWorkingMemoryTfIdf(z_t, memory_)
+                                 : ScoreWorkingMemory(z_t, memory_),
+                             options_.filter.min_sigma_ratio);
+  }
+
+  Neighbourhoods UpdateFilter(const Likelihood& likelihood, Result& result) {
+    ScopedTimer timer(&result.times.filter_ms);
+    Neighbourhoods neighbourhoods;
+    for (LocationId id : memory_.working_memory()) {
+      neighbourhoods[id] = memory_.WmNeighbourhood(id, options_.filter.neighbour_range);
+    }
+    filter_.Update(likelihood, neighbourhoods);
+    return neighbourhoods;
+  }
+
+  Hypothesis SelectLoopClosure(LocationId t, const Likelihood& likelihood,
+                               const Neighbourhoods& neighbourhoods, Result& result) {
+    ScopedTimer timer(&result.times.selection_ms);
+    Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
+                                             neighbourhoods, selection_options_);
+    RequireSupport(likelihood, hypothesis);
+    Verify(t, hypothesis, result);
+    result.hypothesis_id = hypothesis.id;
+    result.hypothesis_eligible = hypothesis.eligible;
+    result.hypothesis_value = hypothesis.value;
+    if (hypothesis.id != kNoLocation) result.hypothesis_images = memory_.at(hypothesis.id).images;
+    result.virtual_place_probability = filter_.virtual_place();
+    AbsorbPastMatches(hypothesis, neighbourhoods);
+    if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);
+    return hypothesis;
+  }
+
+  // A loop closure says that the image matches L_i: with filter.require_support, the image's own
+  // likelihood for L_i must stand out (eq. 3 above 1, s_i >= mu + sigma); a hypothesis carried
+  // only by the prior (just after leaving a revisited stretch) is not eligible.
+  void RequireSupport(const Likelihood& likelihood, Hypothesis& hypothesis) const {
+    if (!options_.filter.require_support || hypothesis.id == kNoLocation) return;
+    const auto value = likelihood.values.find(hypothesis.id);
+    if (value != likelihood.values.end() && value->second > 1.0) return;
+    hypothesis.Refuse();
+  }
+
+  // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
+  // T_loop over what verification lets through.
+  void Verify(LocationId t, Hypothesis& hypothesis, Result& result) {
+    if (options_.verification.min_inliers == 0 || !hypothesis.eligible) return;
+    const EpipolarCheck check = CheckEpipolarGeometry(
+        memory_.at(t).signature, memory_.at(hypothesis.id).signature, options_.verification);
+    result.hypothesis_inliers = check.inliers;
+    if (!check.passed) hypothesis.Refuse();
+  }
+
+  // III-D: L_t takes L_i's weight plus one and its neighbour links. L_i stays (its hypothesis
+  // keeps the filter consistent) until it leaves the highest hypothesis' neighbourhood.
+  void AcceptLoopClosure(LocationId t, const Hypothesis& hypothesis, Result& result) {
+    const LocationId i = hypothesis.id;
+    memory_.at(t).weight += memory_.at(i).weight + 1;
+    editor_.LinkLoopClosure(t, i);
+    result.loop_closure_id = i;
+    result.loop_closure_images = memory_.at(i).images;
+    ltm_.RecordLoopClosure(
+        {result.image_index, memory_.at(i).images.front(), t, i, hypothesis.value});
+  }
+
+  // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
+  // that matched them.
+  void AbsorbPastMatches(const Hypothesis& hypothesis, const Neighbourhoods& neighbourhoods) {
+    std::set<LocationId> near_highest;
+    if (hypothesis.id != kNoLocation) {
+      for (const auto& entry : neighbourhoods.at(hypothesis.id)) near_highest.insert(entry.first);
+    }
+    editor_.AbsorbPastMatches(near_highest);
+  }
+
+  void RetrieveNeighbours(const Hypothesis& hypothesis, Result& result) {
+    ScopedTimer timer(&result.times.retrieval_ms);
+    const RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved,
+                                              options_.filter.neighbour_range, memory_, ltm_);
+    result.retrieved_ids = outcome.retrieved;
+    for (LocationId id : outcome.retrieved) filter_.Add(id);  // a new state, probability 0
+    retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
+  }
+
+  void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
+    ScopedTimer timer(&result.times.transfer_ms);
+    const double limit = options_.memory.time_limit_ms;
+    TransferTrigger trigger;
+    // The paper compares the processing time with T_time at this point; what follows (the
+    // checkpoint) is counted too, as the previous iteration measured it, so that the whole
+    // iteration, not only its part up to here, stays under T_time (issue 9).
+    const bool checkpoints = counters_.images_processed % options_.memory.checkpoint_interval == 0;
+    trigger.time_exceeded =
+        TimeExceeded(iteration.ElapsedMs(), checkpoints ? last_checkpoint_ms_ : 0, limit,
+                     options_.memory.time_target);
+    trigger.max_wm_locations = options_.memory.max_wm_locations;
+    trigger.max_dictionary_words = options_.memory.max_dictionary_words;
+    trigger.dictionary_size_at_start = dictionary_size_at_start_;
+    result.transferred_ids =
+        Transfer(trigger, retrieved_this_iteration_, KeptLast(hypothesis), memory_, editor_);
+  }
+
+  // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
+  // that a place being recognized keeps its neighbours until the filter has decided (memloop;
+  // the paper transfers them by weight and age like any other: memory.protect_hypothesis = 0).
+  std::set<LocationId> KeptLast(const Hypothesis& hypothesis) const {
+    std::set<LocationId> kept;
+    if (!options_.memory.protect_hypothesis || hypothesis.id == kNoLocation) return kept;
+    for (const auto& [id, distance] :
+         memory_.WmNeighbourhood(hypothesis.id, options_.filter.neighbour_range)) {
+      kept.insert(id);
+    }
+    return kept;
+  }
+
+  void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {
+    result.location_id = t;
+    result.word_count = memory_.at(t).signature.size();
+    result.stm_size = static_cast<int>(memory_.stm().size());
+    result.wm_size = static_cast<int>(memory_.working_memory().size());
+    result.ltm_size = static_cast<int>(ltm_.size());
+    result.dictionary_size = static_cast<int>(memory_.dictionary().size());
+    result.times.total_ms = iteration.ElapsedMs();
+  }
+
+  Options options_;
+  FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
+  static constexpr int kMaxSkippedCheckpoints = 8;
+  int skipped_checkpoints_ = 0;
+  double last_checkpoint_ms_ = 0;  // counted in the next iteration's time check
+  std::unique_ptr<FeatureExtractor> extractor_;
+  Memory memory_;
+  BayesFilter filter_;
+  LongTermMemory ltm_;
+  MapEditor editor_;
+  DetectorCounters counters_;
+  CheckpointWriter checkpoints_;
+  bool failed_ = false;
+  size_t dictionary_size_at_start_ = 0;
+  std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
+  bool closed_ = false;
+};
+
+Detector::Detector(const Options& options, const std::string& database_path, MapMode mode)
+    : impl_(std::make_unique<Impl>(options, database_path, mode)) {}
+
+Detector::~Detector() {
+  try {
+    impl_->Close();
+  } catch (const std::exception&) {
+    // A destructor cannot report; Close() reports the same failure to callers that want it.
+  }
+}
+
+Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
+  return impl_->Process(image, image_index);
+}
+
+void Detector::Flush() { impl_->Flush(); }
+ImageIndex Detector::last_image() const { return impl_->last_image(); }
+long long Detector::images_processed() const { return impl_->images_processed(); }
+void Detector::SetWriterHeld(bool held) { impl_->SetWriterHeld(held); }
+std::vector<std::string> Detector::CheckConsistency() { return impl_->CheckConsistency(); }
+void Detector::Close() { impl_->Close(); }
+const Options& Detector::options() const { return impl_->options(); }
+
+}  // namespace memloop

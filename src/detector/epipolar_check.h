@@ -1,0 +1,24 @@
+// Geometric verification of a loop-closure hypothesis: the words L_t shares with the matched
+// location must be seen from two poses of one rigid scene, that is, satisfy one epipolar
+// geometry (a fundamental matrix found by RANSAC). Appearance alone confuses places that look
+// alike (perceptual aliasing); their shared words rarely agree on one geometry.
+#pragma once
+
+#include "memloop/options.h"
+#include "vocabulary/signature.h"
+
+namespace memloop {
+
+struct EpipolarCheck {
+  int correspondences = 0;  // words held exactly once by each signature
+  int inliers = 0;          // correspondences within ransac_pixels of their epipolar line
+  bool passed = false;      // inliers >= min_inliers
+};
+
+// Correspondences are the words each signature holds once (a repeated word's pairing is
+// ambiguous). Fewer than 8 (the 8-point algorithm's minimum) or than min_inliers fail at once.
+// OpenCV's RANSAC is seeded per call, so the verdict repeats exactly.
+EpipolarCheck CheckEpipolarGeometry(const Signature& a, const Signature& b,
+                                    const VerificationOptions& options);
+
+}  // namespace memloop

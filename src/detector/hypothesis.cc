@@ -1,0 +1,30 @@
+#include "detector/hypothesis.h"
+
+namespace memloop {
+
+Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
+                            const Neighbourhoods& neighbourhoods, const FilterOptions& options) {
+  Hypothesis best;
+  double best_own = -1;
+  for (const auto& [id, own] : posterior) {
+    if (own > best_own) {  // ascending ids: ties keep the older location
+      best.id = id;
+      best_own = own;
+    }
+  }
+  if (best.id == kNoLocation) return best;
+  if (options.hypothesis_value == "loop_mass") {
+    best.value = 1.0 - virtual_place;
+  } else {
+    for (const auto& [neighbour, distance] : neighbourhoods.at(best.id)) {
+      if (distance > options.neighbour_range) continue;
+      const auto found = posterior.find(neighbour);
+      if (found != posterior.end()) best.value += found->second;
+    }
+  }
+  best.eligible = static_cast<int>(posterior.size()) >= options.min_hypotheses;
+  best.accepted = best.eligible && best.value > options.loop_threshold;
+  return best;
+}
+
+}  // namespace memloop

@@ -1,0 +1,31 @@
+// Loop-closure hypothesis selection (paper III-D).
+#pragma once
+
+#include <map>
+
+#include "detector/bayes_filter.h"
+#include "memloop/options.h"
+
+namespace memloop {
+
+struct Hypothesis {
+  LocationId id = kNoLocation;  // highest hypothesis, kNoLocation when WM is empty
+  double value = 0;             // compared with T_loop (FilterOptions::hypothesis_value)
+  bool eligible = false;        // WM holds at least T_minHyp locations: T_loop alone decides
+  bool accepted = false;        // eligible and value > T_loop
+
+  // A check beside T_loop refused it: not accepted at any threshold.
+  void Refuse() { eligible = accepted = false; }
+};
+
+// The highest hypothesis is the WM location of highest posterior (ties: the older); its value is
+// the posterior summed over its neighbourhood (the transition model's range), because a loop
+// closure's probability spreads to the neighbours of the matched location. The paper's text also
+// reads as "the highest of the neighbour sums"; that choice names the centre of the probability
+// mass rather than the best match, so matches lag behind along a path (RTAB-Map, by the same
+// authors, sums around the highest posterior, as here).
+// With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
+Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
+                            const Neighbourhoods& neighbourhoods, const FilterOptions& options);
+
+}  // namespace memloop

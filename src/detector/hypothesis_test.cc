@@ -1,0 +1,79 @@
+#include "detector/hypothesis.h"
+
+#include <gtest/gtest.h>
+
+namespace memloop {
+namespace {
+
+// 1 - 2 - 3 - 4 in a line, 10 alone.
+Neighbourhoods Graph() {
+  Neighbourhoods graph;
+  graph[1] = {{1, 0}, {2, 1}, {3, 2}, {4, 3}};
+  graph[2] = {{2, 0}, {1, 1}, {3, 1}, {4, 2}};
+  graph[3] = {{3, 0}, {2, 1}, {4, 1}, {1, 2}};
+  graph[4] = {{4, 0}, {3, 1}, {2, 2}, {1, 3}};
+  graph[10] = {{10, 0}};
+  return graph;
+}
+
+const std::map<LocationId, double> kPosterior = {
+    {1, 0.05}, {2, 0.3}, {3, 0.1}, {4, 0.02}, {10, 0.25}};
+
+FilterOptions Neighbours() {
+  FilterOptions options;
+  options.hypothesis_value = "neighbours";  // the paper's value
+  options.loop_threshold = 0.1;
+  return options;
+}
+
+TEST(HypothesisTest, HighestPosteriorWithItsNeighboursSummed) {
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 5;
+  const Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  EXPECT_EQ(hypothesis.id, 2);
+  EXPECT_NEAR(hypothesis.value, 0.05 + 0.3 + 0.1 + 0.02, 1e-12);  // 0.47
+  EXPECT_TRUE(hypothesis.accepted);                               // 0.47 > T_loop = 0.1
+}
+
+TEST(HypothesisTest, NotAcceptedBelowTLoopOrWithTooFewHypotheses) {
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 5;
+  options.loop_threshold = 0.5;
+  EXPECT_FALSE(SelectHypothesis(kPosterior, 0.5, Graph(), options).accepted);
+  options.loop_threshold = 0.1;
+  options.min_hypotheses = 6;  // WM holds 5 < T_minHyp
+  const Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  EXPECT_FALSE(hypothesis.accepted);
+  EXPECT_EQ(hypothesis.id, 2);  // still reported, marked not eligible
+  EXPECT_FALSE(hypothesis.eligible);
+}
+
+// memloop's default value: 1 - p(virtual place), whatever the neighbourhood.
+TEST(HypothesisTest, LoopMassIsOneMinusTheVirtualPlace) {
+  FilterOptions options;
+  options.hypothesis_value = "loop_mass";
+  options.min_hypotheses = 5;
+  options.loop_threshold = 0.7;
+  Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.28, Graph(), options);
+  EXPECT_EQ(hypothesis.id, 2);
+  EXPECT_NEAR(hypothesis.value, 0.72, 1e-12);
+  EXPECT_TRUE(hypothesis.eligible);
+  EXPECT_TRUE(hypothesis.accepted);  // 0.72 > 0.7; the neighbour sum, 0.47, would not be
+  hypothesis = SelectHypothesis(kPosterior, 0.31, Graph(), options);
+  EXPECT_FALSE(hypothesis.accepted);  // 0.69
+}
+
+TEST(HypothesisTest, RangeLimitsTheSum) {
+  FilterOptions options = Neighbours();
+  options.neighbour_range = 1;
+  EXPECT_NEAR(SelectHypothesis(kPosterior, 0.5, Graph(), options).value, 0.05 + 0.3 + 0.1, 1e-12);
+}
+
+TEST(HypothesisTest, EmptyWorkingMemoryHasNoHypothesis) {
+  const Hypothesis hypothesis = SelectHypothesis({}, 1.0, {}, FilterOptions());
+  EXPECT_EQ(hypothesis.id, kNoLocation);
+  EXPECT_FALSE(hypothesis.accepted);
+}
+
+}  // namespace
+}  // namespace memloop

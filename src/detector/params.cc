@@ -1,0 +1,277 @@
+#include "memloop/params.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+// Builds one row of the registry: Param(key, field).Unit(..).Range(..).Help(..).
+class Param {
+ public:
+  Param(std::string key, Parameter::Accessor field) {
+    row_.key = std::move(key), row_.field = field;
+  }
+  Param& Unit(std::string unit) { return row_.unit = std::move(unit), *this; }
+  Param& Range(double min, double max) { return row_.min = min, row_.max = max, *this; }
+  Param& AboveRange(double min, double max) {
+    return Range(min, max), row_.min_exclusive = true, *this;
+  }
+  Param& Choices(std::vector<std::string> choices) {
+    return row_.choices = std::move(choices), *this;
+  }
+  Param& Symbol(std::string symbol) { return row_.symbol = std::move(symbol), *this; }
+  Param& Help(std::string description) { return row_.description = std::move(description), *this; }
+  operator Parameter() const { return row_; }
+
+ private:
+  Parameter row_;
+};
+
+#define MEMLOOP_FIELD(path)   \
+  +[](Options & o) -> auto& { \
+    return o.path;            \
+  }
+
+// clang-format off
+std::vector<Parameter> MakeRegistry() {
+  constexpr double kHuge = 1e9;
+  return {
+    Param("features.type", MEMLOOP_FIELD(features.type)).Choices({"surf", "sift", "orb"})
+        .Help("Feature backend: surf (memloop's SURF, 64-d), sift (OpenCV SIFT, 128-d), orb (OpenCV ORB, 256-bit binary)"),
+    Param("features.max_features", MEMLOOP_FIELD(features.max_features)).Unit("keypoints")
+        .Range(0, 100000).Help("Strongest keypoints kept per image (0 = all)"),
+    Param("surf.hessian_threshold", MEMLOOP_FIELD(features.surf_hessian_threshold))
+        .Range(0, kHuge).Help("SURF: minimum det(H) of a keypoint, on 0-255 intensities (as OpenCV)"),
+    Param("surf.octaves", MEMLOOP_FIELD(features.surf_octaves)).Range(1, 8)
+        .Help("SURF: octaves of filter sizes"),
+    Param("surf.intervals", MEMLOOP_FIELD(features.surf_intervals)).Range(3, 8)
+        .Help("SURF: filter sizes per octave (maxima are searched in the inner ones)"),
+    Param("surf.sample_step", MEMLOOP_FIELD(features.surf_sample_step)).Unit("pixels").Range(1, 8)
+        .Help("SURF: sampling step of the first octave, doubled per octave"),
+    Param("surf.extended", MEMLOOP_FIELD(features.surf_extended)).Range(0, 1)
+        .Help("SURF: 1 for 128-d descriptors, 0 for 64-d"),
+    Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Range(0, 1)
+        .Help("SURF: 1 for U-SURF (no orientation: faster, not rotation invariant)"),
+    Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
+        .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
+    Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
+        .Help("Randomized kd-trees in the dictionary's forest (FLANN)"),
+    Param("dictionary.kd_checks", MEMLOOP_FIELD(dictionary.kd_checks)).Unit("leaves").Range(1, 100000)
+        .Help("Leaves visited per nearest-neighbour search (FLANN checks)"),
+    Param("dictionary.rebuild_fraction", MEMLOOP_FIELD(dictionary.rebuild_fraction)).AboveRange(0, 100)
+        .Help("Rebuild the forest when points added+removed since the last build exceed this fraction of its size then"),
+    Param("dictionary.rebuild_delay", MEMLOOP_FIELD(dictionary.rebuild_delay)).Unit("insertions").Range(0, 100000)
+        .Help("A full rebuild runs in the background and replaces the forest this many insertions (~images) later; 0 = inside the iteration"),
+    Param("dictionary.seed", MEMLOOP_FIELD(dictionary.seed)).Range(0, 2147483647)
+        .Help("Seed of the forest's random splits (repeatable runs)"),
+    Param("dictionary.lsh_tables", MEMLOOP_FIELD(dictionary.lsh_tables)).Range(1, 64)
+        .Help("Binary descriptors (orb): hash tables of the LSH index"),
+    Param("dictionary.lsh_key_bits", MEMLOOP_FIELD(dictionary.lsh_key_bits)).Unit("bits").Range(1, 32)
+        .Help("Binary descriptors (orb): bits per LSH hash key"),
+    Param("dictionary.lsh_probe_level", MEMLOOP_FIELD(dictionary.lsh_probe_level)).Range(0, 4)
+        .Help("Binary descriptors (orb): neighbouring LSH buckets probed (multi-probe level)"),
+    Param("memory.stm_size", MEMLOOP_FIELD(memory.stm_size)).Unit("locations").Range(1, 100000)
+        .Symbol("STM size").Help("Newest locations kept out of loop closure detection"),
+    Param("memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold)).Range(0, 1)
+        .Symbol("T_rehearsal (eq. 1)").Help("Similarity above which the compared STM location is merged"),
+    Param("memory.time_limit_ms", MEMLOOP_FIELD(memory.time_limit_ms)).Unit("ms").Range(0, kHuge)
+        .Symbol("T_time").Help("Iteration time above which WM locations go to LTM (0 = infinity)"),
+    Param("memory.time_target", MEMLOOP_FIELD(memory.time_target)).Range(0.05, 1)
+        .Help("Transfer when the iteration reaches this fraction of T_time (1 = the paper), so that whole iterations stay under T_time"),
+    Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
+        .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
+    Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
+        .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none)"),
+    Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
+        .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
+    Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
+        .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
+    Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Range(0, 1)
+        .Help("1: the highest hypothesis' neighbourhood leaves WM after every other location (0 = by weight and age, the paper)"),
+    Param("filter.loop_threshold", MEMLOOP_FIELD(filter.loop_threshold)).Range(0, 1)
+        .Symbol("T_loop").Help("Hypothesis value (filter.hypothesis_value) above which a loop closure is accepted"),
+    Param("filter.min_hypotheses", MEMLOOP_FIELD(filter.min_hypotheses)).Unit("locations")
+        .Range(0, 100000).Symbol("T_minHyp").Help("WM locations needed before a loop closure can be accepted"),
+    Param("filter.virtual_place_stay", MEMLOOP_FIELD(filter.virtual_place_stay)).Range(0, 1)
+        .Symbol("p(S_t=-1|S_t-1=-1)")
+        .Help("Transition: new location after new location; 1 minus it goes to loop closures"),
+    Param("filter.neighbour_range", MEMLOOP_FIELD(filter.neighbour_range)).Unit("links").Range(0, 100)
+        .Help("Transition and hypothesis sum reach this many links from a location"),
+    Param("filter.neighbour_sigma", MEMLOOP_FIELD(filter.neighbour_sigma)).Unit("links")
+        .AboveRange(0, 100).Help("Standard deviation of the transition model's discretized Gaussian"),
+    Param("filter.min_sigma_ratio", MEMLOOP_FIELD(filter.min_sigma_ratio)).Range(0, 10)
+        .Symbol("eq. 3-4").Help("sigma is at least this fraction of mu, so mu/sigma+1 stays continuous and at most 1/ratio+1 (0 = as written: sigma=0 gives 2)"),
+    Param("filter.hypothesis_value", MEMLOOP_FIELD(filter.hypothesis_value)).Choices({"neighbours", "loop_mass"})
+        .Symbol("III-D").Help("Value compared with T_loop: neighbours (posterior summed around the highest hypothesis, the paper) or loop_mass (1 - p(virtual place))"),
+    Param("filter.likelihood", MEMLOOP_FIELD(filter.likelihood)).Choices({"similarity", "tfidf"})
+        .Symbol("eq. 1 / III-C").Help("Score of L_t against each WM location: similarity (eq. 1, the paper) or tfidf (shared words weighted by log(N/n_w))"),
+    Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Range(0, 1)
+        .Symbol("eq. 3").Help("1: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (0 = the paper)"),
+    Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
+        .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
+    Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
+        .Help("Epipolar verification: RANSAC inlier distance to the epipolar line"),
+    Param("verify.ransac_confidence", MEMLOOP_FIELD(verification.ransac_confidence)).AboveRange(0, 1)
+        .Help("Epipolar verification: RANSAC confidence"),
+  };
+}
+// clang-format on
+
+#undef MEMLOOP_FIELD
+
+std::string FormatDouble(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// Strict parse: the whole text must be the number.
+bool ParseDouble(const std::string& text, double* value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  *value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size() && std::isfinite(*value);
+}
+
+}  // namespace
+
+bool Parameter::DefinesMap() const {
+  for (const char* group : {"features.", "surf.", "dictionary."}) {
+    if (key.rfind(group, 0) == 0) return true;
+  }
+  return false;
+}
+
+std::string Parameter::TypeName() const {
+  switch (field.index()) {
+    case 0:
+      return "int";
+    case 1:
+      return "double";
+    default:
+      return "string";
+  }
+}
+
+std::string Parameter::Get(const Options& options) const {
+  Options& mutable_options = const_cast<Options&>(options);  // accessors only read here
+  return std::visit(
+      [&](auto accessor) -> std::string {
+        const auto& value = accessor(mutable_options);
+        if constexpr (std::is_same_v<std::decay_t<decltype(value)>, std::string>) {
+          return value;
+        } else {
+          return FormatDouble(value);
+        }
+      },
+      field);
+}
+
+std::string Parameter::RangeText() const {
+  if (!choices.empty()) {
+    std::string text;
+    for (const auto& choice : choices) text += (text.empty() ? "" : "|") + choice;
+    return text;
+  }
+  return (min_exclusive ? "(" : "[") + FormatDouble(min) + ", " + FormatDouble(max) + "]";
+}
+
+std::string Parameter::Check(const Options& options) const {
+  const std::string value = Get(options);
+  if (!choices.empty()) {
+    for (const auto& choice : choices) {
+      if (value == choice) return "";
+    }
+    return "must be one of " + RangeText();
+  }
+  double number = 0;
+  ParseDouble(value, &number);
+  const bool above_min = min_exclusive ? number > min : number >= min;
+  if (!above_min || number > max) return "must be in " + RangeText();
+  return "";
+}
+
+void Parameter::Set(Options& options, const std::string& value) const {
+  const auto fail = [&](const std::string& why) {
+    throw ParameterError(key, "Invalid parameter " + key + " = '" + value + "': " + why);
+  };
+  std::visit(
+      [&](auto accessor) {
+        auto& target = accessor(options);
+        using T = std::decay_t<decltype(target)>;
+        if constexpr (std::is_same_v<T, std::string>) {
+          target = value;
+        } else {
+          double number = 0;
+          if (!ParseDouble(value, &number)) fail("not a number");
+          if (std::is_same_v<T, int> && number != std::floor(number)) fail("not a whole number");
+          if (std::is_same_v<T, int> && std::fabs(number) > 2147483647.0) fail("out of range");
+          target = static_cast<T>(number);
+        }
+      },
+      field);
+  const std::string problem = Check(options);
+  if (!problem.empty()) fail(problem);
+}
+
+const std::vector<Parameter>& Parameters() {
+  static const std::vector<Parameter> registry = MakeRegistry();
+  return registry;
+}
+
+const Parameter* FindParameter(const std::string& key) {
+  for (const auto& parameter : Parameters()) {
+    if (parameter.key == key) return &parameter;
+  }
+  return nullptr;
+}
+
+void SetParameter(Options& options, const std::string& assignment) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw ParameterError(assignment, "Malformed parameter '" + assignment +
+                                         "': expected NAME=VALUE (see 'memloop params')");
+  }
+  const std::string key = assignment.substr(0, equals);
+  const Parameter* parameter = FindParameter(key);
+  if (parameter == nullptr) {
+    throw ParameterError(key, "Unknown parameter '" + key + "' (see 'memloop params')");
+  }
+  parameter->Set(options, assignment.substr(equals + 1));
+}
+
+void ValidateOptions(const Options& options) {
+  for (const auto& parameter : Parameters()) {
+    const std::string problem = parameter.Check(options);
+    if (!problem.empty()) {
+      throw ParameterError(parameter.key, "Invalid parameter " + parameter.key + " = " +
+                                              parameter.Get(options) + ": " + problem);
+    }
+  }
+}
+
+std::string ParametersMarkdown() {
+  const Options defaults;
+  std::ostringstream out;
+  out << "# Parameters\n\n"
+         "Generated by `memloop params --markdown` from the parameter registry "
+         "(src/detector/params.cc); "
+         "a test keeps this file in step with it. Set any of them with `--set NAME=VALUE`. "
+         "Defaults are memloop's best measured values (docs/real-data.md); `--preset paper2011` "
+         "gives the paper's (Sec. IV), and docs/design.md lists each departure. Parameters marked "
+         "*map* define what a word is and how words are found: a map keeps them, and "
+         "`memloop run --resume` refuses other values.\n\n"
+         "| name | default | type | unit | range | paper | description |\n"
+         "| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Parameter& p : Parameters()) {
+    out << "| `" << p.key << "`" << (p.DefinesMap() ? " *map*" : "") << " | " << p.Get(defaults)
+        << " | " << p.TypeName() << " | " << p.unit << " | " << p.RangeText() << " | " << p.symbol
+        << " | " << p.description << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace memloop

@@ -1,0 +1,71 @@
+#include "detector/retrieval.h"
+
+#include <set>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+
+RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm) {
+  RetrievalOutcome outcome;
+  std::vector<WordId> missing;
+  for (const auto& [word, count] : location.signature.Histogram()) {
+    if (!dictionary.Contains(word)) missing.push_back(word);
+  }
+  if (missing.empty()) return outcome;
+  cv::Mat descriptors(static_cast<int>(missing.size()), dictionary.descriptor_dim(),
+                      dictionary.descriptor_cv_type());
+  const size_t row_bytes = descriptors.cols * descriptors.elemSize();
+  for (size_t row = 0; row < missing.size(); ++row) {
+    const auto descriptor = ltm.LoadWord(missing[row]);
+    if (!descriptor || descriptor->size() != row_bytes) {
+      throw DatabaseError(ltm.path(), "word " + std::to_string(missing[row]) + " of location " +
+                                          std::to_string(location.id) + " is missing or damaged");
+    }
+    std::copy(descriptor->begin(), descriptor->end(), descriptors.ptr<unsigned char>(row));
+  }
+  const std::vector<WordId> matches = dictionary.Match(descriptors);
+  std::vector<WordId> unmatched_ids;
+  cv::Mat unmatched_descriptors;
+  for (size_t row = 0; row < missing.size(); ++row) {
+    if (matches[row] == kNoWord) {
+      unmatched_ids.push_back(missing[row]);
+      unmatched_descriptors.push_back(descriptors.row(static_cast<int>(row)));
+      continue;
+    }
+    for (WordId& word : location.signature.words) {
+      if (word == missing[row]) word = matches[row];
+    }
+    ltm.ReplaceWord(missing[row], matches[row]);
+    ++outcome.words_replaced;
+  }
+  dictionary.Add(unmatched_ids, unmatched_descriptors);
+  // Other LTM locations may hold these words too: keep them in LTM when they leave again.
+  for (WordId word : unmatched_ids) dictionary.MarkReferencedByLtm(word);
+  outcome.words_added = static_cast<int>(unmatched_ids.size());
+  return outcome;
+}
+
+RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
+                          LongTermMemory& ltm) {
+  RetrievalOutcome outcome;
+  if (highest == kNoLocation || max_retrieved <= 0) return outcome;
+  const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
+    return memory.Contains(id) ? memory.LinksOf(id) : ltm.LinksOf(id);
+  });
+  for (const auto& [id, distance] : neighbourhood) {
+    if (static_cast<int>(outcome.retrieved.size()) >= max_retrieved) break;
+    if (!ltm.Contains(id)) continue;
+    std::optional<Location> location = ltm.Retrieve(id);
+    const RetrievalOutcome words = RematchWords(*location, memory.dictionary(), ltm);
+    outcome.words_added += words.words_added;
+    outcome.words_replaced += words.words_replaced;
+    // A word now in the dictionary may also be held by other LTM locations.
+    for (WordId word : location->signature.words) memory.dictionary().MarkReferencedByLtm(word);
+    memory.Restore(std::move(*location));
+    outcome.retrieved.push_back(id);
+  }
+  return outcome;
+}
+
+}  // namespace memloop

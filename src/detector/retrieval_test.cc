@@ -1,0 +1,70 @@
+#include "detector/retrieval.h"
+
+#include <gtest/gtest.h>
+
+#include "detector/transfer.h"
+#include "small_map.h"
+
+namespace memloop {
+namespace {
+
+class RetrievalTest : public ::testing::Test {
+ protected:
+  RetrievalTest() {
+    // A chain L1 .. L5; L3 and L4 share word 7; L3 also has word 18.
+    ids_ = testing::AddChain(memory_, {{1}, {2}, {3, 7, 18}, {4, 7}, {5}});
+    memory_.MoveStmOverflowToWm(0);
+    // L2, L3, L4 go to LTM (L1 heaviest, L5 immune).
+    memory_.at(ids_[0]).weight = 5;
+    TransferTrigger trigger;
+    trigger.max_wm_locations = 2;
+    trigger.dictionary_size_at_start = memory_.dictionary().size();
+    Transfer(trigger, {ids_[4]}, {}, memory_, map_.editor);
+  }
+
+  testing::SmallMap map_;
+  Memory& memory_ = map_.memory;
+  LongTermMemory* ltm_ = &map_.ltm;
+  std::vector<LocationId> ids_;
+};
+
+TEST_F(RetrievalTest, AtMostTwoNearestNeighboursComeBack) {
+  ASSERT_EQ(ltm_->size(), 3u);
+  const RetrievalOutcome outcome = Retrieve(ids_[0], 2, 4, memory_, *ltm_);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[1], ids_[2]}));  // L4 is farther
+  EXPECT_TRUE(memory_.InWorkingMemory(ids_[1]));
+  EXPECT_TRUE(memory_.InWorkingMemory(ids_[2]));
+  EXPECT_TRUE(ltm_->Contains(ids_[3]));
+  EXPECT_EQ(memory_.at(ids_[0]).neighbours, (std::set<LocationId>{ids_[1]}));
+}
+
+TEST_F(RetrievalTest, NothingToRetrieveWithoutHypothesis) {
+  EXPECT_TRUE(Retrieve(kNoLocation, 2, 4, memory_, *ltm_).retrieved.empty());
+}
+
+TEST_F(RetrievalTest, WordsThatLeftTheDictionaryAreRematchedOrAddedBack) {
+  // A newer word 20 at word 7's point: word 7 is the same feature and must be replaced by it.
+  memory_.dictionary().Add({20}, (cv::Mat_<float>(1, 2) << 700, 0));
+  const RetrievalOutcome outcome = Retrieve(ids_[2], 1, 4, memory_, *ltm_);  // L3 itself first
+  ASSERT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(outcome.words_replaced, 1);
+  EXPECT_EQ(outcome.words_added, 2);  // words 3 and 18 had no newer twin
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{3, 20, 18}));
+  EXPECT_TRUE(memory_.dictionary().Contains(18));
+  EXPECT_EQ(memory_.dictionary().References(20).count(ids_[2]), 1u);
+  ltm_->Flush();
+  // Every reference in LTM changed (L4 held word 7 too) and the old word is gone.
+  EXPECT_FALSE(ltm_->LoadWord(7).has_value());
+  const auto l4 = ltm_->Retrieve(ids_[3]);
+  EXPECT_EQ(l4->signature.words, (std::vector<WordId>{4, 20}));
+}
+
+TEST_F(RetrievalTest, RenamesAreSeenBeforeTheyAreWritten) {
+  memory_.dictionary().Add({20}, (cv::Mat_<float>(1, 2) << 700, 0));
+  Retrieve(ids_[2], 1, 4, memory_, *ltm_);
+  // No Flush: the rename may still be queued; L4 must come back with the new word anyway.
+  EXPECT_EQ(ltm_->Retrieve(ids_[3])->signature.words, (std::vector<WordId>{4, 20}));
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,114 @@
+#include "detector/transfer.h"
+
+#include <gtest/gtest.h>
+
+#include "small_map.h"
+
+namespace memloop {
+namespace {
+
+class TransferTest : public ::testing::Test {
+ protected:
+  TransferTest() {
+    // L1 {1, 2}, L2 {3, 4}, L3 {5, 6}, L4 {7, 1}: word 1 shared by L1 and L4.
+    ids_ = testing::AddChain(memory_, {{1, 2}, {3, 4}, {5, 6}, {7, 1}});
+    memory_.MoveStmOverflowToWm(0);
+    const int weights[] = {2, 0, 0, 1};
+    for (int i = 0; i < 4; ++i) memory_.at(ids_[i]).weight = weights[i];
+  }
+
+  testing::SmallMap map_;
+  Memory& memory_ = map_.memory;
+  LongTermMemory& ltm_ = map_.ltm;
+  MapEditor& editor_ = map_.editor;
+  std::vector<LocationId> ids_;
+};
+
+TEST_F(TransferTest, LowestWeightFirstThenOldestAndRetrievedAreImmune) {
+  EXPECT_EQ(TransferOrder(memory_, {}),
+            (std::vector<LocationId>{ids_[1], ids_[2], ids_[3], ids_[0]}));
+  EXPECT_EQ(TransferOrder(memory_, {ids_[2]}),
+            (std::vector<LocationId>{ids_[1], ids_[3], ids_[0]}));
+}
+
+// The highest hypothesis' neighbourhood goes after all others, in weight-then-age order itself.
+TEST_F(TransferTest, KeptLastLocationsGoAfterAllOthers) {
+  EXPECT_EQ(TransferOrder(memory_, {}, {ids_[1], ids_[3]}),
+            (std::vector<LocationId>{ids_[2], ids_[0], ids_[1], ids_[3]}));
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 2;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, {ids_[1], ids_[2]}, memory_, editor_),
+            (std::vector<LocationId>{ids_[3], ids_[0]}));
+}
+
+// A budget below the kept-last set still holds: they leave too, last.
+TEST_F(TransferTest, BudgetHoldsEvenOverKeptLastLocations) {
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 1;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, {ids_[1], ids_[2], ids_[3]}, memory_, editor_),
+            (std::vector<LocationId>{ids_[0], ids_[1], ids_[2]}));
+}
+
+TEST_F(TransferTest, TimeLimitTransfersUntilTheDictionaryIsBackToItsSize) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  // 7 words now; "3 were added this iteration": transfer until 4 remain at most.
+  trigger.dictionary_size_at_start = memory_.dictionary().size() - 3;
+  const auto transferred = Transfer(trigger, {}, {}, memory_, editor_);
+  // L2 frees words 3, 4 (5 left: not enough), L3 frees 5, 6 (3 left): stop.
+  EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[1], ids_[2]}));
+  EXPECT_EQ(memory_.dictionary().size(), 3u);
+  EXPECT_TRUE(ltm_.Contains(ids_[1]));
+  EXPECT_EQ(ltm_.size(), 2u);
+  ASSERT_TRUE(ltm_.LoadWord(3).has_value());  // words go to LTM with their locations
+  EXPECT_EQ(*ltm_.LoadWord(3), testing::FloatBytes({300, 0}));
+}
+
+TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();  // nothing added
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_).size(), 1u);
+}
+
+TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
+  TransferTrigger trigger;
+  trigger.max_wm_locations = 2;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  const auto transferred = Transfer(trigger, {ids_[1]}, {}, memory_, editor_);
+  EXPECT_EQ(transferred, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L2 was retrieved
+  EXPECT_EQ(memory_.working_memory().size(), 2u);
+  // L4 shared word 1 with L1: it stays in the dictionary, marked as held by LTM too.
+  EXPECT_TRUE(memory_.dictionary().Contains(1));
+  EXPECT_TRUE(memory_.dictionary().IsReferencedByLtm(1));
+}
+
+TEST_F(TransferTest, DictionaryBudget) {
+  TransferTrigger trigger;
+  trigger.max_dictionary_words = 5;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_), (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(memory_.dictionary().size(), 5u);
+}
+
+TEST_F(TransferTest, NoTriggerNoTransfer) {
+  TransferTrigger trigger;
+  trigger.dictionary_size_at_start = 0;
+  EXPECT_TRUE(Transfer(trigger, {}, {}, memory_, editor_).empty());
+}
+
+// T_time 100 ms. The paper (target 1): 60 ms so far + 30 ms of checkpoint = 90, not over; 60 + 41
+// is. memloop's 0.75: 60 + 16 = 76 > 75 transfers, 60 + 15 = 75 does not (at the target is not
+// over). T_time off never triggers.
+TEST(TimeExceededTest, CountsTheCheckpointAndAimsBelowTimeLimit) {
+  EXPECT_FALSE(TimeExceeded(60, 30, 100, 1.0));
+  EXPECT_TRUE(TimeExceeded(60, 41, 100, 1.0));
+  EXPECT_TRUE(TimeExceeded(60, 16, 100, 0.75));
+  EXPECT_FALSE(TimeExceeded(60, 15, 100, 0.75));
+  EXPECT_FALSE(TimeExceeded(1e9, 1e9, 0, 0.75));
+}
+
+}  // namespace
+}  // namespace memloop

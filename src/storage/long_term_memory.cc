@@ -1,0 +1,340 @@
+#include "storage/long_term_memory.h"
+
+#include <algorithm>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+// Erases entries of `pending` whose write is committed (sequence <= committed).
+template <typename Map>
+void EraseCommitted(Map& pending, long long committed) {
+  for (auto entry = pending.begin(); entry != pending.end();) {
+    entry = entry->second.first <= committed ? pending.erase(entry) : std::next(entry);
+  }
+}
+
+// A rename or redirection `from -> to` queued after others: those that ended at `from` now end at
+// `to`, and stay in the overlay until this one is committed too.
+template <typename Map, typename Id>
+void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
+  for (auto& [key, entry] : pending) {
+    if (entry.second == from) entry = {sequence, to};
+  }
+  pending[from] = {sequence, to};
+}
+
+size_t BytesOf(const Location& location) {
+  return sizeof(Location) +
+         location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
+         (location.neighbours.size() + location.loop_closures.size()) * 48 +
+         location.images.size() * sizeof(ImageIndex);
+}
+
+}  // namespace
+
+LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
+                               const LtmOptions& options)
+    : path_(path), reader_(path, mode), max_pending_bytes_(options.max_pending_bytes) {
+  for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
+  writer_ = std::thread([this, options] { WriterLoop(options); });
+}
+
+LongTermMemory::~LongTermMemory() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_writer_.notify_one();
+  writer_.join();
+}
+
+void LongTermMemory::ThrowIfFailedLocked() const {
+  if (!writer_failure_.empty()) throw DatabaseError(path_, writer_failure_);
+}
+
+void LongTermMemory::Overlay(long long sequence, const Operation& operation) {
+  if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+    pending_locations_[store->location.id] = {sequence, store->location};
+  } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+    pending_words_[word->id] = {sequence, word->descriptor};
+  } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
+    pending_words_.erase(rename->old_id);
+    ResolveChains(pending_renames_, rename->old_id, rename->new_id, sequence);
+  } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
+    pending_locations_.erase(redirect->absorbed);
+    pending_links_.erase(redirect->absorbed);
+    ResolveChains(pending_redirects_, redirect->absorbed, redirect->survivor, sequence);
+  } else if (const auto* link = std::get_if<AddLinkOp>(&operation)) {
+    pending_links_[link->from].emplace_back(sequence, *link);
+  }
+}
+
+long long LongTermMemory::CommittableSequenceLocked() const {
+  return last_checkpoint_sequence_ > 0 ? last_checkpoint_sequence_ : next_sequence_ - 1;
+}
+
+size_t LongTermMemory::CommittableCountLocked() const {
+  const long long last = CommittableSequenceLocked();
+  if (queue_.empty() || last < queue_.front().sequence) return 0;
+  return static_cast<size_t>(last - queue_.front().sequence + 1);
+}
+
+template <typename Predicate>
+void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done) {
+  ++waiting_;
+  wake_writer_.notify_one();
+  committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
+  --waiting_;
+  ThrowIfFailedLocked();
+}
+
+void LongTermMemory::Enqueue(Operation operation) {
+  size_t bytes = 64;
+  if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+    bytes += BytesOf(store->location);
+  } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+    bytes += word->descriptor.size();
+  } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
+    bytes += checkpoint->bytes();
+  }
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
+    // Back-pressure: wait for the writer when it has something it may commit (with checkpoints,
+    // writes after the last one cannot be committed before the next).
+    const auto can_free = [&] { return CommittableSequenceLocked() > committed_sequence_; };
+    if (pending_bytes_ + bytes > max_pending_bytes_ && can_free()) {
+      WaitForWriterLocked(
+          lock, [&] { return pending_bytes_ + bytes <= max_pending_bytes_ || !can_free(); });
+    }
+    const long long sequence = next_sequence_++;
+    if (std::holds_alternative<CheckpointData>(operation)) last_checkpoint_sequence_ = sequence;
+    Overlay(sequence, operation);
+    pending_bytes_ += bytes;
+    queue_.push_back({sequence, bytes, std::move(operation)});
+  }
+  wake_writer_.notify_one();
+}
+
+void LongTermMemory::Store(const Location& location) {
+  ids_.insert(location.id);
+  Enqueue(StoreLocation{location});
+}
+
+void LongTermMemory::StoreWord(WordId id, const cv::Mat& descriptor) {
+  const cv::Mat row = descriptor.isContinuous() ? descriptor : descriptor.clone();
+  const unsigned char* bytes = row.ptr<unsigned char>();
+  Enqueue(StoreWordOp{id, std::vector<unsigned char>(bytes, bytes + row.total() * row.elemSize())});
+}
+
+void LongTermMemory::ReplaceWord(WordId old_id, WordId new_id) {
+  Enqueue(ReplaceWordOp{old_id, new_id});
+}
+
+void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor) {
+  ids_.erase(absorbed);
+  Enqueue(RedirectOp{absorbed, survivor});
+}
+
+void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) {
+  Enqueue(AddLinkOp{from, to, loop_closure});
+}
+
+void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
+
+void LongTermMemory::WriteInfo(const std::string& key, const std::string& value) {
+  Enqueue(InfoOp{key, value});
+}
+
+WordId LongTermMemory::Renamed(WordId word) const {
+  const auto renamed = pending_renames_.find(word);
+  return renamed == pending_renames_.end() ? word : renamed->second.second;
+}
+
+LocationId LongTermMemory::Redirected(LocationId id) const {
+  const auto redirected = pending_redirects_.find(id);
+  return redirected == pending_redirects_.end() ? id : redirected->second.second;
+}
+
+void LongTermMemory::Rewrite(Location& location) const {
+  for (WordId& word : location.signature.words) word = Renamed(word);
+  const auto links = pending_links_.find(location.id);
+  if (links != pending_links_.end()) {
+    for (const auto& [sequence, link] : links->second) {
+      (link.loop_closure ? location.loop_closures : location.neighbours).insert(link.to);
+    }
+  }
+  for (auto* set : {&location.neighbours, &location.loop_closures}) {
+    std::set<LocationId> rewritten;
+    for (LocationId link : *set) rewritten.insert(Redirected(link));
+    rewritten.erase(location.id);
+    *set = std::move(rewritten);
+  }
+}
+
+std::optional<Location> LongTermMemory::ReadLocked(LocationId id, bool links_only) {
+  // Called with mutex_ held. The writer may commit during the read, but it forgets a committed
+  // write only under mutex_, so the overlay still holds it and applying it twice is harmless.
+  std::optional<Location> location;
+  const auto pending = pending_locations_.find(id);
+  if (pending != pending_locations_.end()) {
+    location = pending->second.second;
+  } else if (links_only) {
+    location.emplace();
+    location->id = id;
+    for (LocationId link : reader_.ReadLinks(id)) location->neighbours.insert(link);
+  } else {
+    location = reader_.ReadLocation(id);
+  }
+  if (location) Rewrite(*location);
+  return location;
+}
+
+std::optional<Location> LongTermMemory::Peek(LocationId id) {
+  if (!Contains(id)) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  return ReadLocked(id, /*links_only=*/false);
+}
+
+std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
+  if (!Contains(id)) return std::nullopt;
+  std::optional<Location> location;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
+    location = ReadLocked(id, /*links_only=*/false);
+  }
+  if (!location) throw DatabaseError(path_, "location " + std::to_string(id) + " is missing");
+  ids_.erase(id);
+  return location;
+}
+
+std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto pending = pending_words_.find(id);
+  if (pending != pending_words_.end()) return pending->second.second;
+  if (pending_renames_.count(id)) return std::nullopt;
+  return reader_.ReadWord(id);
+}
+
+std::vector<LocationId> LongTermMemory::LinksOf(LocationId id) {
+  if (!Contains(id)) return {};
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::optional<Location> location = ReadLocked(id, /*links_only=*/true);
+  return location ? location->Links() : std::vector<LocationId>();
+}
+
+void LongTermMemory::Checkpoint(CheckpointData checkpoint) {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ThrowIfFailedLocked();
+    WaitForWriterLocked(lock, [this] { return committed_sequence_ >= last_checkpoint_sequence_; });
+  }
+  Enqueue(std::move(checkpoint));
+}
+
+bool LongTermMemory::CheckpointInFlight() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return committed_sequence_ < last_checkpoint_sequence_;
+}
+
+void LongTermMemory::Flush() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  WaitForWriterLocked(lock, [this] { return committed_sequence_ >= CommittableSequenceLocked(); });
+}
+
+void LongTermMemory::CheckWriter() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ThrowIfFailedLocked();
+}
+
+void LongTermMemory::SetWriterHeld(bool held) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    held_ = held;
+  }
+  wake_writer_.notify_one();
+}
+
+size_t LongTermMemory::pending_bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pending_bytes_;
+}
+
+void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
+  if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+    database.WriteLocation(store->location);
+  } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+    database.WriteWord(word->id, word->descriptor);
+  } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
+    database.ReplaceWord(rename->old_id, rename->new_id);
+  } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
+    database.RedirectLocation(redirect->absorbed, redirect->survivor);
+  } else if (const auto* link = std::get_if<AddLinkOp>(&operation)) {
+    database.WriteLink(link->from, link->to, link->loop_closure);
+  } else if (const auto* record = std::get_if<LoopClosureRecord>(&operation)) {
+    database.WriteLoopClosure(*record);
+  } else if (const auto* info = std::get_if<InfoOp>(&operation)) {
+    database.WriteInfo(info->key, info->value);
+  } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
+    database.WriteCheckpoint(*checkpoint);
+  }
+}
+
+void LongTermMemory::Forget(long long committed, size_t bytes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  committed_sequence_ = committed;
+  pending_bytes_ -= bytes;
+  EraseCommitted(pending_locations_, committed);
+  EraseCommitted(pending_words_, committed);
+  EraseCommitted(pending_renames_, committed);
+  EraseCommitted(pending_redirects_, committed);
+  for (auto entry = pending_links_.begin(); entry != pending_links_.end();) {
+    auto& links = entry->second;
+    links.erase(std::remove_if(links.begin(), links.end(),
+                               [&](const auto& link) { return link.first <= committed; }),
+                links.end());
+    entry = links.empty() ? pending_links_.erase(entry) : std::next(entry);
+  }
+}
+
+void LongTermMemory::WriterLoop(LtmOptions options) {
+  try {
+    LtmDatabase database(path_, LtmDatabase::Mode::kAttach);  // reader_ checked the file
+    if (options.max_page_count > 0) database.LimitPages(options.max_page_count);
+    for (;;) {
+      std::deque<Queued> batch;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_writer_.wait(lock, [this] {
+          return stopping_ || (CommittableCountLocked() > 0 && (!held_ || waiting_ > 0));
+        });
+        const size_t count = CommittableCountLocked();
+        if (count == 0 && stopping_) return;  // writes after the last checkpoint are dropped
+        batch.insert(batch.end(), std::make_move_iterator(queue_.begin()),
+                     std::make_move_iterator(queue_.begin() + count));
+        queue_.erase(queue_.begin(), queue_.begin() + count);
+      }
+      size_t bytes = 0;
+      database.Begin();
+      for (const Queued& queued : batch) {
+        Apply(database, queued.operation);
+        bytes += queued.bytes;
+      }
+      database.Commit();
+      Forget(batch.back().sequence, bytes);
+      committed_.notify_all();
+    }
+  } catch (const std::exception& error) {
+    // The error is reported under the map's name: drop it from the message if it has it already.
+    std::string what = error.what();
+    if (what.rfind(path_ + ": ", 0) == 0) what.erase(0, path_.size() + 2);
+    std::lock_guard<std::mutex> lock(mutex_);
+    writer_failure_ = "writing the map failed: " + what;
+    committed_.notify_all();
+  }
+}
+
+}  // namespace memloop

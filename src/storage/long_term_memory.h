@@ -1,0 +1,169 @@
+// The Long-Term Memory (paper III): locations transferred out of WM, and the words only they
+// refer to, on disk. Writes are asynchronous (paper III-F: "done asynchronously using a background
+// thread"): they are queued, and a writer thread commits them in batched transactions. Until a
+// write is committed, reads are answered through an overlay of the queued writes, so a read gives
+// the same answer however far the writer is behind (the detector's determinism rests on it).
+// All methods are called from the detector's thread; the writer thread is internal.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "storage/ltm_database.h"
+
+namespace memloop {
+
+struct LtmOptions {
+  // Back-pressure: when queued writes hold more than this, the detector waits for the writer, so
+  // RAM stays bounded whatever the disk's speed.
+  size_t max_pending_bytes = size_t{64} << 20;
+  // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
+  // value to meet a full disk.
+  long long max_page_count = 0;
+};
+
+class LongTermMemory {
+ public:
+  // Opens the map at `path` (see LtmDatabase for what is refused in each mode). An opened map's
+  // locations are all in LTM until Exclude() says otherwise.
+  LongTermMemory(const std::string& path, LtmDatabase::Mode mode = LtmDatabase::Mode::kCreate,
+                 const LtmOptions& options = {});
+  // Commits everything queued, then stops the writer.
+  ~LongTermMemory();
+  LongTermMemory(const LongTermMemory&) = delete;
+  LongTermMemory& operator=(const LongTermMemory&) = delete;
+
+  // Transfer (III-F): the location is in LTM from now on.
+  void Store(const Location& location);
+  // A word that left the dictionary while LTM locations refer to it: its descriptor row.
+  void StoreWord(WordId id, const cv::Mat& descriptor);
+  // Retrieval (III-E): the location goes back to WM (its rows stay until it is stored again).
+  std::optional<Location> Retrieve(LocationId id);
+  // The location as LTM holds it, without taking it out; nullopt when it is not in LTM.
+  std::optional<Location> Peek(LocationId id);
+  // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
+  std::optional<std::vector<unsigned char>> LoadWord(WordId id);
+  // Links of a location in LTM, sorted; empty when it is not in LTM.
+  std::vector<LocationId> LinksOf(LocationId id);
+  bool Contains(LocationId id) const { return ids_.count(id) > 0; }
+  // Resuming: `id` is in memory (rows it has in the file are an older copy).
+  void Exclude(LocationId id) { ids_.erase(id); }
+  const std::set<LocationId>& ids() const { return ids_; }
+  size_t size() const { return ids_.size(); }
+
+  // Every reference to the word `old_id` becomes `new_id` (re-matched on retrieval, III-E).
+  void ReplaceWord(WordId old_id, WordId new_id);
+  // `absorbed` was merged into `survivor`: links to it now point to the survivor.
+  void RedirectLocation(LocationId absorbed, LocationId survivor);
+  // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
+  void AddLink(LocationId from, LocationId to, bool loop_closure);
+  void RecordLoopClosure(const LoopClosureRecord& record);
+  void WriteInfo(const std::string& key, const std::string& value);
+
+  // A resume checkpoint (checkpoint.h). From the first one on, the writer commits only whole
+  // checkpoints: a transaction ends at a checkpoint, and writes queued after the last one wait
+  // for the next (they are dropped if the LTM is destroyed first). At most one checkpoint is
+  // uncommitted: this waits for the previous one, which bounds what a crash can lose.
+  void Checkpoint(CheckpointData checkpoint);
+  // True while the last checkpoint is not committed yet (Checkpoint would wait for it).
+  bool CheckpointInFlight() const;
+  // Blocks until every queued write is committed (up to the last checkpoint once checkpoints are
+  // written). Rethrows a writer failure.
+  void Flush();
+  // Throws DatabaseError when the writer has failed (a full disk, a removed file): the map on
+  // disk no longer follows memory, so the detector must stop.
+  void CheckWriter();
+  // For tests: while held, the writer commits nothing unless someone waits for it (a full queue,
+  // Flush, destruction). Reads must give the same answers either way.
+  void SetWriterHeld(bool held);
+  size_t pending_bytes() const;
+  const std::string& path() const { return path_; }
+
+ private:
+  struct StoreLocation {
+    Location location;
+  };
+  struct StoreWordOp {
+    WordId id;
+    std::vector<unsigned char> descriptor;
+  };
+  struct ReplaceWordOp {
+    WordId old_id;
+    WordId new_id;
+  };
+  struct RedirectOp {
+    LocationId absorbed;
+    LocationId survivor;
+  };
+  struct AddLinkOp {
+    LocationId from;
+    LocationId to;
+    bool loop_closure;
+  };
+  struct InfoOp {
+    std::string key;
+    std::string value;
+  };
+  using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
+                                 LoopClosureRecord, InfoOp, CheckpointData>;
+  struct Queued {
+    long long sequence;
+    size_t bytes;
+    Operation operation;
+  };
+
+  void Enqueue(Operation operation);
+  void Overlay(long long sequence, const Operation& operation);
+  void WriterLoop(LtmOptions options);
+  void Apply(LtmDatabase& database, const Operation& operation);
+  void Forget(long long committed, size_t bytes);
+  void ThrowIfFailedLocked() const;
+  // The last sequence the writer may commit now, and how many queued writes that is.
+  long long CommittableSequenceLocked() const;
+  size_t CommittableCountLocked() const;
+  // Waits (mutex_ held by `lock`) until `done` or a writer failure, which it rethrows.
+  template <typename Predicate>
+  void WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done);
+  std::optional<Location> ReadLocked(LocationId id, bool links_only);
+  // Applies queued renames, redirections and links to a location read from the queue or file.
+  void Rewrite(Location& location) const;
+  WordId Renamed(WordId word) const;
+  LocationId Redirected(LocationId id) const;
+
+  std::string path_;
+  LtmDatabase reader_;
+  std::set<LocationId> ids_;  // locations now in LTM
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_writer_;
+  std::condition_variable committed_;
+  std::deque<Queued> queue_;
+  size_t max_pending_bytes_;
+  size_t pending_bytes_ = 0;
+  int waiting_ = 0;  // threads waiting for the writer: a held writer then goes on
+  bool held_ = false;
+  long long next_sequence_ = 1;
+  long long committed_sequence_ = 0;
+  long long last_checkpoint_sequence_ = 0;  // 0: no checkpoint yet, every write is committable
+  // The overlay: queued, not yet committed. Values: (sequence of the write, data). Renames and
+  // redirections are kept resolved to their end (A->S then S->S2 gives A->S2), so one look-up
+  // gives what the file will say once everything is committed.
+  std::map<LocationId, std::pair<long long, Location>> pending_locations_;
+  std::map<WordId, std::pair<long long, std::vector<unsigned char>>> pending_words_;
+  std::map<WordId, std::pair<long long, WordId>> pending_renames_;
+  std::map<LocationId, std::pair<long long, LocationId>> pending_redirects_;
+  std::map<LocationId, std::vector<std::pair<long long, AddLinkOp>>> pending_links_;
+  bool stopping_ = false;
+  std::string writer_failure_;
+  std::thread writer_;
+};
+
+}  // namespace memloop

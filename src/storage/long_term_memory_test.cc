@@ -1,0 +1,224 @@
+#include "storage/long_term_memory.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <functional>
+
+#include "memloop/errors.h"
+#include "small_memory.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+Location MakeLocation(LocationId id, std::vector<WordId> words) {
+  Location location;
+  location.id = id;
+  location.signature = testing::MakeSignature(words);
+  location.neighbours = {id - 1, id + 1};
+  location.images = {id};
+  return location;
+}
+
+TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"));
+  ltm.Store(MakeLocation(5, {1, 2}));
+  ltm.StoreWord(2, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
+  EXPECT_TRUE(ltm.Contains(5));
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6}));
+  EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
+  ltm.Flush();
+  EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
+  ltm.RedirectLocation(6, 9);  // 6 was merged into 9
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 9}));
+  const auto location = ltm.Retrieve(5);
+  ASSERT_TRUE(location.has_value());
+  EXPECT_EQ(location->signature.words, (std::vector<WordId>{1, 2}));
+  EXPECT_EQ(location->neighbours, (std::set<LocationId>{4, 9}));
+  EXPECT_FALSE(ltm.Contains(5));  // back in WM
+  EXPECT_FALSE(ltm.Retrieve(5).has_value());
+}
+
+// The map survives the process being killed: what was committed (Flush) is in the file.
+// Runs `body` in a child process that is then killed with SIGKILL, wherever its writer is.
+// True when the child died of that signal.
+bool KilledAfter(const std::function<void()>& body) {
+  const pid_t child = fork();
+  if (child < 0) return false;
+  if (child == 0) {
+    body();
+    raise(SIGKILL);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+TEST(LongTermMemoryTest, SurvivesKill9) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  ASSERT_TRUE(KilledAfter([&] {
+    LongTermMemory ltm(path);
+    for (int id = 1; id <= 50; ++id) ltm.Store(MakeLocation(id, {id, id + 1000}));
+    ltm.Flush();
+    for (int id = 51; id <= 2000; ++id) ltm.Store(MakeLocation(id, {id}));  // maybe written
+  }));
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
+  EXPECT_GE(database.CountLocations(), 50);
+  EXPECT_EQ(database.ReadLocation(50)->signature.words, (std::vector<WordId>{50, 1050}));
+}
+
+}  // namespace
+}  // namespace memloop
+
+namespace memloop {
+namespace {
+
+// Queued renames and redirections chain (A->S then S->S2): reads give the end of the chain
+// whether the writer is behind (held) or has committed, and the same answer in both cases.
+class LongTermMemoryChainTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(LongTermMemoryChainTest, RenamesAndRedirectionsResolveToTheirEnd) {
+  const bool writer_behind = GetParam();
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"));
+  ltm.SetWriterHeld(writer_behind);
+  const auto sync = [&] {
+    if (!writer_behind) ltm.Flush();
+  };
+  ltm.Store(MakeLocation(5, {10, 11}));  // links 4 and 6
+  ltm.StoreWord(10, (cv::Mat_<float>(1, 2) << 1.f, 2.f));
+  sync();
+  ltm.ReplaceWord(10, 20);  // word 10 re-matched to 20 ...
+  sync();
+  ltm.StoreWord(20, (cv::Mat_<float>(1, 2) << 3.f, 4.f));  // ... which left the dictionary ...
+  sync();
+  ltm.ReplaceWord(20, 30);  // ... and was re-matched to 30
+  sync();
+  ltm.RedirectLocation(6, 7);  // 6 merged into 7, then 7 into 8
+  sync();
+  ltm.RedirectLocation(7, 8);
+  sync();
+  EXPECT_FALSE(ltm.LoadWord(10).has_value());
+  EXPECT_FALSE(ltm.LoadWord(20).has_value());
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 8}));
+  const auto location = ltm.Retrieve(5);
+  ASSERT_TRUE(location.has_value());
+  EXPECT_EQ(location->signature.words, (std::vector<WordId>{30, 11}));
+  EXPECT_EQ(location->neighbours, (std::set<LocationId>{4, 8}));
+  ltm.SetWriterHeld(false);
+  ltm.Flush();
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kOpen);
+  EXPECT_EQ(database.ReadLocation(5)->signature.words, (std::vector<WordId>{30, 11}));
+  EXPECT_EQ(database.ReadLinks(5), (std::vector<LocationId>{4, 8}));
+}
+
+INSTANTIATE_TEST_SUITE_P(WriterBehindOrNot, LongTermMemoryChainTest, ::testing::Bool());
+
+TEST(LongTermMemoryTest, AddedLinksAreReadBeforeAndAfterCommit) {
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"));
+  ltm.SetWriterHeld(true);
+  ltm.Store(MakeLocation(5, {1}));
+  ltm.AddLink(5, 40, /*loop_closure=*/true);
+  EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
+  ltm.SetWriterHeld(false);
+  ltm.Flush();
+  EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
+  EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6, 40}));
+}
+
+// Back-pressure: a held writer is made to commit once the queue is full, so RAM stays bounded.
+TEST(LongTermMemoryTest, QueueIsBoundedEvenWhenTheWriterIsHeld) {
+  testing::TempDir dir;
+  LtmOptions options;
+  options.max_pending_bytes = 64 * 1024;
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, options);
+  ltm.SetWriterHeld(true);
+  size_t most = 0;
+  for (int id = 1; id <= 300; ++id) {
+    ltm.Store(MakeLocation(id, std::vector<WordId>(50, id)));
+    most = std::max(most, ltm.pending_bytes());
+  }
+  EXPECT_LE(most, options.max_pending_bytes);
+  EXPECT_GT(most, options.max_pending_bytes / 2);  // it did fill up before committing
+  EXPECT_EQ(ltm.Peek(300)->signature.words.size(), 50u);
+}
+
+// A full disk (emulated with SQLite's page limit) stops the run at the next call, not at Close.
+TEST(LongTermMemoryTest, WriterFailureIsReportedAtTheNextCall) {
+  testing::TempDir dir;
+  LtmOptions options;
+  options.max_page_count = 12;
+  options.max_pending_bytes = 16 * 1024;  // the queue fills soon: the failure must come back
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, options);
+  bool failed = false;
+  for (int id = 1; id <= 2000 && !failed; ++id) {
+    try {
+      ltm.Store(MakeLocation(id, std::vector<WordId>(100, id)));
+    } catch (const DatabaseError& error) {
+      failed = true;
+      EXPECT_NE(std::string(error.what()).find("writing the map failed"), std::string::npos);
+      EXPECT_NE(std::string(error.what()).find("full"), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_TRUE(failed);
+  EXPECT_THROW(ltm.CheckWriter(), DatabaseError);
+  EXPECT_THROW(ltm.Flush(), DatabaseError);
+  EXPECT_LE(ltm.pending_bytes(), options.max_pending_bytes);
+}
+
+// From the first checkpoint on, a transaction ends at a checkpoint: writes after the last one
+// are not committed (a map file always holds one consistent moment of the run).
+CheckpointData StateCheckpoint(int value) {
+  CheckpointData checkpoint;
+  checkpoint.state.emplace_back("test",
+                                std::vector<unsigned char>{static_cast<unsigned char>(value)});
+  return checkpoint;
+}
+
+TEST(LongTermMemoryTest, CommitsOnlyWholeCheckpoints) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LongTermMemory ltm(path);
+    ltm.Store(MakeLocation(1, {1}));
+    ltm.Checkpoint(StateCheckpoint(1));
+    ltm.Store(MakeLocation(2, {2}));
+    ltm.Flush();                           // up to the checkpoint
+    EXPECT_TRUE(ltm.Peek(2).has_value());  // read through the queue
+  }                                        // location 2 is dropped: no checkpoint after it
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  EXPECT_TRUE(database.ReadLocation(1).has_value());
+  EXPECT_FALSE(database.ReadLocation(2).has_value());
+  EXPECT_EQ(*database.ReadState("test"), std::vector<unsigned char>{1});
+}
+
+TEST(LongTermMemoryTest, KilledWriterLeavesTheFileAtACheckpoint) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  ASSERT_TRUE(KilledAfter([&] {
+    LongTermMemory ltm(path);
+    for (int id = 1; id <= 200; ++id) {
+      ltm.Store(MakeLocation(id, std::vector<WordId>(40, id)));
+      ltm.Checkpoint(StateCheckpoint(id));
+      if (id % 2) ltm.Store(MakeLocation(1000 + id, {id}));  // after the checkpoint
+    }
+  }));
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  const auto state = database.ReadState("test");
+  ASSERT_TRUE(state.has_value());
+  const int last = (*state)[0];
+  EXPECT_GE(last, 199);  // at most one checkpoint in flight: the one before the last committed
+  for (int id = 1; id <= 200; ++id) {
+    EXPECT_EQ(database.ReadLocation(id).has_value(), id <= last) << id;
+    EXPECT_EQ(database.ReadLocation(1000 + id).has_value(), id < last && id % 2) << id;
+  }
+}
+
+}  // namespace
+}  // namespace memloop

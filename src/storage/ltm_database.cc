@@ -1,0 +1,479 @@
+#include "storage/ltm_database.h"
+
+#include <sys/stat.h>
+
+#include <cassert>
+#include <cstring>
+#include <filesystem>
+#include <unordered_map>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kLinkNeighbour = 0;
+constexpr int kLinkLoopClosure = 1;
+
+off_t FileSize(const std::string& path) {
+  struct stat info {};
+  return stat(path.c_str(), &info) == 0 ? info.st_size : 0;
+}
+
+// A map's rows may still be only in its write-ahead log (a run killed before SQLite folded it).
+bool HoldsData(const std::string& path) {
+  return FileSize(path) > 0 || FileSize(path + "-wal") > 0;
+}
+
+// What cannot be a map file at all, said before SQLite says "disk I/O error" or "unable to open".
+void CheckIsFileOrAbsent(const std::string& path, LtmDatabase::Mode mode) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) == 0) {
+    if (S_ISDIR(info.st_mode)) throw DatabaseError(path, "is a folder; a map is a file");
+    if (!S_ISREG(info.st_mode)) {
+      throw DatabaseError(path,
+                          "is not a regular file (a device, pipe or socket); a map is a file");
+    }
+    return;
+  }
+  if (mode != LtmDatabase::Mode::kCreate) throw DatabaseError(path, "no such file");
+  const std::string folder = fs::path(path).parent_path().string();
+  if (!folder.empty() && !fs::is_directory(folder)) {
+    throw DatabaseError(path, "cannot create the map: the folder " + folder + " does not exist");
+  }
+}
+
+int ReadInt(SqliteConnection& connection, const std::string& sql) {
+  SqliteStatement query(connection, sql);
+  return query.Step() ? static_cast<int>(query.Int(0)) : 0;
+}
+
+std::string ReadText(SqliteConnection& connection, const std::string& sql) {
+  try {
+    SqliteStatement query(connection, sql);
+    return query.Step() ? query.Text(0) : "";
+  } catch (const DatabaseError&) {
+    return "";  // no such table: a map older than the row
+  }
+}
+
+}  // namespace
+
+int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
+  CheckIsFileOrAbsent(path, mode);
+  if (!HoldsData(path)) {
+    if (mode != Mode::kCreate) throw DatabaseError(path, "empty file: no memloop map in it");
+    return kFormatVersion;
+  }
+  // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in).
+  SqliteConnection connection(path, SQLITE_OPEN_READONLY);
+  int application_id = 0;
+  int version = 0;
+  try {
+    application_id = ReadInt(connection, "PRAGMA application_id");
+    version = ReadInt(connection, "PRAGMA user_version");
+  } catch (const DatabaseError&) {
+    throw DatabaseError(path, std::string("not a memloop map: not an SQLite database, or its "
+                                          "header is damaged (") +
+                                  sqlite3_errmsg(connection.handle()) + ")");
+  }
+  if (application_id != kApplicationId) {
+    throw DatabaseError(path, "not a memloop map (an SQLite database of another application)");
+  }
+  if (version > kFormatVersion || version < 1) {
+    // Every format writes its version in the info table too: a header that disagrees with it
+    // was damaged, it is not a newer memloop's map.
+    const std::string recorded =
+        ReadText(connection, "SELECT value FROM info WHERE key='" + std::string(kFormatKey) + "'");
+    if (version < 1 || recorded != std::to_string(version)) {
+      throw DatabaseError(path, "the map's header is damaged (format version " +
+                                    std::to_string(version) + " in the header, " +
+                                    (recorded.empty() ? "none" : recorded) + " in the map)");
+    }
+    throw DatabaseError(path, "map format " + std::to_string(version) +
+                                  " is newer than this memloop's (" +
+                                  std::to_string(kFormatVersion) + "): upgrade memloop");
+  }
+  if (mode == Mode::kCreate) {
+    throw DatabaseError(path,
+                        "already holds a memloop map; a run starts a new map, so choose "
+                        "another --db path (the existing map is left untouched)");
+  }
+  if (mode != Mode::kAttach) {
+    SqliteStatement check(connection, "PRAGMA quick_check");
+    const std::string verdict = check.Step() ? check.Text(0) : "no answer";
+    if (verdict != "ok") throw DatabaseError(path, "the map is damaged (" + verdict + ")");
+  }
+  return version;
+}
+
+LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
+    : format_version_(CheckMapFile(path, mode)),
+      connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+                        : mode == Mode::kRead ? SQLITE_OPEN_READONLY
+                                              : SQLITE_OPEN_READWRITE) {
+  if (mode == Mode::kRead) return;
+  // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
+  // committed transaction through a crash of the process (not of the OS, by design of WAL).
+  connection_.Execute(
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
+      "PRAGMA foreign_keys=OFF;");
+  if (mode == Mode::kCreate) CreateSchema();
+}
+
+void LtmDatabase::CreateSchema() {
+  connection_.Execute(
+      "BEGIN;"
+      "PRAGMA application_id=" +
+      std::to_string(kApplicationId) +
+      ";"
+      "PRAGMA user_version=" +
+      std::to_string(kFormatVersion) +
+      ";"
+      "CREATE TABLE info(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+      "CREATE TABLE locations(id INTEGER PRIMARY KEY, weight INTEGER NOT NULL);"
+      "CREATE TABLE location_images(location_id INTEGER NOT NULL, rank INTEGER NOT NULL,"
+      " image INTEGER NOT NULL, PRIMARY KEY(location_id, rank)) WITHOUT ROWID;"
+      "CREATE TABLE links(from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,"
+      " type INTEGER NOT NULL, PRIMARY KEY(from_id, to_id, type)) WITHOUT ROWID;"
+      "CREATE INDEX links_to ON links(to_id);"
+      "CREATE TABLE signature_words(location_id INTEGER NOT NULL, rank INTEGER NOT NULL,"
+      " word_id INTEGER NOT NULL, x REAL, y REAL, size REAL, angle REAL, response REAL,"
+      " octave INTEGER, PRIMARY KEY(location_id, rank)) WITHOUT ROWID;"
+      "CREATE INDEX signature_words_word ON signature_words(word_id);"
+      "CREATE TABLE words(id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
+      "CREATE TABLE loop_closures(query_image INTEGER NOT NULL, match_image INTEGER NOT NULL,"
+      " query_location INTEGER NOT NULL, match_location INTEGER NOT NULL, probability REAL);"
+      "CREATE TABLE memory_locations(id INTEGER PRIMARY KEY, data BLOB NOT NULL);"
+      "CREATE TABLE index_chunks(first_point INTEGER PRIMARY KEY, words BLOB NOT NULL);"
+      "CREATE TABLE index_descriptors(word_id INTEGER PRIMARY KEY, descriptor BLOB NOT NULL);"
+      "CREATE TABLE resume_state(key TEXT PRIMARY KEY, value BLOB NOT NULL);"
+      "INSERT INTO info(key, value) VALUES('" +
+      std::string(kFormatKey) + "', '" + std::to_string(kFormatVersion) +
+      "');"
+      "COMMIT;");
+}
+
+SqliteStatement& LtmDatabase::Cached(const std::string& sql) {
+  for (auto& [text, statement] : statements_) {
+    if (text == sql) return *statement;
+  }
+  statements_.emplace_back(sql, std::make_unique<SqliteStatement>(connection_, sql));
+  return *statements_.back().second;
+}
+
+void LtmDatabase::Begin() { Cached("BEGIN").Run(); }
+void LtmDatabase::Commit() { Cached("COMMIT").Run(); }
+
+void LtmDatabase::WriteLocation(const Location& location) {
+  const long long id = location.id;
+  for (const char* sql : {"DELETE FROM locations WHERE id=?", "DELETE FROM links WHERE from_id=?",
+                          "DELETE FROM location_images WHERE location_id=?",
+                          "DELETE FROM signature_words WHERE location_id=?"}) {
+    Cached(sql).Bind(1, id).Run();
+  }
+  Cached("INSERT INTO locations(id, weight) VALUES(?,?)")
+      .Bind(1, id)
+      .Bind(2, static_cast<long long>(location.weight))
+      .Run();
+  auto& link = Cached("INSERT OR IGNORE INTO links(from_id, to_id, type) VALUES(?,?,?)");
+  for (LocationId to : location.neighbours) {
+    link.Bind(1, id).Bind(2, static_cast<long long>(to)).Bind(3, 0LL + kLinkNeighbour).Run();
+  }
+  for (LocationId to : location.loop_closures) {
+    link.Bind(1, id).Bind(2, static_cast<long long>(to)).Bind(3, 0LL + kLinkLoopClosure).Run();
+  }
+  auto& image = Cached("INSERT INTO location_images(location_id, rank, image) VALUES(?,?,?)");
+  for (size_t rank = 0; rank < location.images.size(); ++rank) {
+    image.Bind(1, id)
+        .Bind(2, static_cast<long long>(rank))
+        .Bind(3, static_cast<long long>(location.images[rank]))
+        .Run();
+  }
+  auto& word = Cached(
+      "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
+      " octave) VALUES(?,?,?,?,?,?,?,?,?)");
+  const Signature& signature = location.signature;
+  for (size_t rank = 0; rank < signature.words.size(); ++rank) {
+    const cv::KeyPoint& keypoint = signature.keypoints[rank];
+    word.Bind(1, id)
+        .Bind(2, static_cast<long long>(rank))
+        .Bind(3, static_cast<long long>(signature.words[rank]))
+        .Bind(4, double{keypoint.pt.x})
+        .Bind(5, double{keypoint.pt.y})
+        .Bind(6, double{keypoint.size})
+        .Bind(7, double{keypoint.angle})
+        .Bind(8, double{keypoint.response})
+        .Bind(9, static_cast<long long>(keypoint.octave))
+        .Run();
+  }
+}
+
+void LtmDatabase::WriteWord(WordId id, const std::vector<unsigned char>& descriptor) {
+  Cached("INSERT OR REPLACE INTO words(id, descriptor) VALUES(?,?)")
+      .Bind(1, static_cast<long long>(id))
+      .BindBlob(2, descriptor.data(), static_cast<int>(descriptor.size()))
+      .Run();
+}
+
+void LtmDatabase::ReplaceWord(WordId old_id, WordId new_id) {
+  Cached("UPDATE signature_words SET word_id=? WHERE word_id=?")
+      .Bind(1, static_cast<long long>(new_id))
+      .Bind(2, static_cast<long long>(old_id))
+      .Run();
+  Cached("DELETE FROM words WHERE id=?").Bind(1, static_cast<long long>(old_id)).Run();
+}
+
+void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
+  Cached("UPDATE OR IGNORE links SET to_id=? WHERE to_id=?")
+      .Bind(1, static_cast<long long>(survivor))
+      .Bind(2, static_cast<long long>(absorbed))
+      .Run();
+  for (const char* sql :
+       {"DELETE FROM links WHERE to_id=? OR from_id=?1", "DELETE FROM locations WHERE id=?",
+        "DELETE FROM location_images WHERE location_id=?",
+        "DELETE FROM signature_words WHERE location_id=?"}) {
+    Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
+  }
+  // A survivor linked to itself through the redirection keeps no such link.
+  Cached("DELETE FROM links WHERE from_id=? AND to_id=?1")
+      .Bind(1, static_cast<long long>(survivor))
+      .Run();
+}
+
+void LtmDatabase::WriteLink(LocationId from, LocationId to, bool loop_closure) {
+  Cached("INSERT OR IGNORE INTO links(from_id, to_id, type) VALUES(?,?,?)")
+      .Bind(1, static_cast<long long>(from))
+      .Bind(2, static_cast<long long>(to))
+      .Bind(3, 0LL + (loop_closure ? kLinkLoopClosure : kLinkNeighbour))
+      .Run();
+}
+
+void LtmDatabase::LimitPages(long long pages) {
+  connection_.Execute("PRAGMA max_page_count=" + std::to_string(pages));
+}
+
+void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
+  Cached(
+      "INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"
+      " probability) VALUES(?,?,?,?,?)")
+      .Bind(1, static_cast<long long>(record.query_image))
+      .Bind(2, static_cast<long long>(record.match_image))
+      .Bind(3, static_cast<long long>(record.query_location))
+      .Bind(4, static_cast<long long>(record.match_location))
+      .Bind(5, record.probability)
+      .Run();
+}
+
+void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
+  Cached("INSERT OR REPLACE INTO info(key, value) VALUES(?,?)").Bind(1, key).Bind(2, value).Run();
+}
+
+size_t CheckpointData::bytes() const {
+  size_t total = 64;
+  for (const auto& [id, data] : locations) total += data.size() + 16;
+  for (const Point& point : index_points) total += point.descriptor.size() + 16;
+  for (const auto& [key, value] : state) total += key.size() + value.size();
+  return total + removed_locations.size() * sizeof(LocationId);
+}
+
+void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
+  if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
+  if (checkpoint.full) Cached("DELETE FROM index_descriptors").Run();
+  if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_chunks").Run();
+  for (LocationId id : checkpoint.removed_locations) {
+    Cached("DELETE FROM memory_locations WHERE id=?").Bind(1, static_cast<long long>(id)).Run();
+  }
+  auto& location = Cached("INSERT OR REPLACE INTO memory_locations(id, data) VALUES(?,?)");
+  for (const auto& [id, data] : checkpoint.locations) {
+    location.Bind(1, static_cast<long long>(id))
+        .BindBlob(2, data.data(), static_cast<int>(data.size()))
+        .Run();
+  }
+  // The index points of this checkpoint (consecutive) as one row of word ids: a rebuild rewrites
+  // one blob, not a row per point.
+  if (!checkpoint.index_points.empty()) {
+    std::vector<int32_t> words;
+    words.reserve(checkpoint.index_points.size());
+    for (const CheckpointData::Point& row : checkpoint.index_points) {
+      assert(row.point ==
+             checkpoint.index_points.front().point + static_cast<long long>(words.size()));
+      words.push_back(row.word);
+    }
+    Cached("INSERT OR REPLACE INTO index_chunks(first_point, words) VALUES(?,?)")
+        .Bind(1, checkpoint.index_points.front().point)
+        .BindBlob(2, words.data(), static_cast<int>(words.size() * sizeof(int32_t)))
+        .Run();
+  }
+  auto& forget = Cached("DELETE FROM index_descriptors WHERE word_id=?");
+  for (WordId word : checkpoint.forgotten_descriptors) {
+    forget.Bind(1, static_cast<long long>(word)).Run();
+  }
+  auto& descriptor =
+      Cached("INSERT OR REPLACE INTO index_descriptors(word_id, descriptor) VALUES(?,?)");
+  for (const CheckpointData::Point& row : checkpoint.index_points) {
+    if (row.descriptor.empty()) continue;
+    descriptor.Bind(1, static_cast<long long>(row.word))
+        .BindBlob(2, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
+        .Run();
+  }
+  auto& state = Cached("INSERT OR REPLACE INTO resume_state(key, value) VALUES(?,?)");
+  for (const auto& [key, value] : checkpoint.state) {
+    state.Bind(1, key).BindBlob(2, value.data(), static_cast<int>(value.size())).Run();
+  }
+}
+
+std::vector<LocationId> LtmDatabase::ReadLocationIds() {
+  auto& query = Cached("SELECT id FROM locations ORDER BY id");
+  std::vector<LocationId> ids;
+  while (query.Step()) ids.push_back(static_cast<LocationId>(query.Int(0)));
+  query.Reset();
+  return ids;
+}
+
+std::vector<std::pair<LocationId, std::vector<unsigned char>>> LtmDatabase::ReadMemoryLocations() {
+  auto& query = Cached("SELECT id, data FROM memory_locations ORDER BY id");
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> rows;
+  while (query.Step()) rows.emplace_back(static_cast<LocationId>(query.Int(0)), query.Blob(1));
+  query.Reset();
+  return rows;
+}
+
+std::vector<CheckpointData::Point> LtmDatabase::ReadIndexPoints() {
+  std::vector<CheckpointData::Point> rows;
+  auto& chunks = Cached("SELECT first_point, words FROM index_chunks ORDER BY first_point");
+  while (chunks.Step()) {
+    const long long first = chunks.Int(0);
+    const std::vector<unsigned char> bytes = chunks.Blob(1);
+    if (first != static_cast<long long>(rows.size()) || bytes.size() % sizeof(int32_t) != 0) {
+      chunks.Reset();
+      throw DatabaseError(
+          path(), "the checkpoint's index chunk at point " + std::to_string(first) + " is damaged");
+    }
+    for (size_t k = 0; k < bytes.size() / sizeof(int32_t); ++k) {
+      int32_t word = 0;
+      std::memcpy(&word, bytes.data() + k * sizeof(int32_t), sizeof(int32_t));
+      rows.push_back({static_cast<long long>(rows.size()), word, {}});
+    }
+  }
+  chunks.Reset();
+  auto& descriptor = Cached("SELECT descriptor FROM index_descriptors WHERE word_id=?");
+  std::unordered_map<WordId, std::vector<unsigned char>> descriptors;
+  for (CheckpointData::Point& row : rows) {
+    auto found = descriptors.find(row.word);
+    if (found == descriptors.end()) {
+      descriptor.Bind(1, static_cast<long long>(row.word));
+      found = descriptors
+                  .emplace(row.word,
+                           descriptor.Step() ? descriptor.Blob(0) : std::vector<unsigned char>())
+                  .first;
+      descriptor.Reset();
+    }
+    row.descriptor = found->second;  // empty when missing: the reader refuses it
+  }
+  return rows;
+}
+
+std::optional<std::vector<unsigned char>> LtmDatabase::ReadState(const std::string& key) {
+  auto& query = Cached("SELECT value FROM resume_state WHERE key=?");
+  query.Bind(1, key);
+  std::optional<std::vector<unsigned char>> value;
+  if (query.Step()) value = query.Blob(0);
+  query.Reset();
+  return value;
+}
+
+std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
+  auto& row = Cached("SELECT weight FROM locations WHERE id=?");
+  row.Bind(1, static_cast<long long>(id));
+  if (!row.Step()) {
+    row.Reset();
+    return std::nullopt;
+  }
+  Location location;
+  location.id = id;
+  location.weight = static_cast<int>(row.Int(0));
+  row.Reset();
+  auto& links = Cached("SELECT to_id, type FROM links WHERE from_id=? ORDER BY to_id");
+  links.Bind(1, static_cast<long long>(id));
+  while (links.Step()) {
+    auto& set = links.Int(1) == kLinkNeighbour ? location.neighbours : location.loop_closures;
+    set.insert(static_cast<LocationId>(links.Int(0)));
+  }
+  links.Reset();
+  auto& images = Cached("SELECT image FROM location_images WHERE location_id=? ORDER BY rank");
+  images.Bind(1, static_cast<long long>(id));
+  while (images.Step()) location.images.push_back(static_cast<ImageIndex>(images.Int(0)));
+  images.Reset();
+  auto& words = Cached(
+      "SELECT word_id, x, y, size, angle, response, octave FROM signature_words"
+      " WHERE location_id=? ORDER BY rank");
+  words.Bind(1, static_cast<long long>(id));
+  while (words.Step()) {
+    location.signature.words.push_back(static_cast<WordId>(words.Int(0)));
+    location.signature.keypoints.emplace_back(
+        cv::Point2f(static_cast<float>(words.Double(1)), static_cast<float>(words.Double(2))),
+        static_cast<float>(words.Double(3)), static_cast<float>(words.Double(4)),
+        static_cast<float>(words.Double(5)), static_cast<int>(words.Int(6)));
+  }
+  words.Reset();
+  return location;
+}
+
+std::optional<std::vector<unsigned char>> LtmDatabase::ReadWord(WordId id) {
+  auto& query = Cached("SELECT descriptor FROM words WHERE id=?");
+  query.Bind(1, static_cast<long long>(id));
+  std::optional<std::vector<unsigned char>> descriptor;
+  if (query.Step()) descriptor = query.Blob(0);
+  query.Reset();
+  return descriptor;
+}
+
+std::vector<LocationId> LtmDatabase::ReadLinks(LocationId id) {
+  auto& query = Cached("SELECT DISTINCT to_id FROM links WHERE from_id=? ORDER BY to_id");
+  query.Bind(1, static_cast<long long>(id));
+  std::vector<LocationId> links;
+  while (query.Step()) links.push_back(static_cast<LocationId>(query.Int(0)));
+  query.Reset();
+  return links;
+}
+
+std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
+  auto& query = Cached(
+      "SELECT query_image, match_image, query_location, match_location, probability"
+      " FROM loop_closures ORDER BY rowid");
+  std::vector<LoopClosureRecord> records;
+  while (query.Step()) {
+    records.push_back({static_cast<ImageIndex>(query.Int(0)), static_cast<ImageIndex>(query.Int(1)),
+                       static_cast<LocationId>(query.Int(2)), static_cast<LocationId>(query.Int(3)),
+                       query.Double(4)});
+  }
+  query.Reset();
+  return records;
+}
+
+std::string LtmDatabase::ReadInfo(const std::string& key) {
+  auto& query = Cached("SELECT value FROM info WHERE key=?");
+  query.Bind(1, key);
+  const std::string value = query.Step() ? query.Text(0) : "";
+  query.Reset();
+  return value;
+}
+
+long long LtmDatabase::CountLocations() {
+  auto& query = Cached("SELECT count(*) FROM locations");
+  const long long count = query.Step() ? query.Int(0) : 0;
+  query.Reset();
+  return count;
+}
+
+long long LtmDatabase::CountWords() {
+  auto& query = Cached("SELECT count(*) FROM words");
+  const long long count = query.Step() ? query.Int(0) : 0;
+  query.Reset();
+  return count;
+}
+
+}  // namespace memloop

@@ -1,0 +1,114 @@
+// The Long-Term Memory's SQLite file, one per map: locations with their signatures, links and
+// images, the words they refer to that left the dictionary (with descriptors), and every
+// accepted loop closure. Identified by PRAGMA application_id and versioned by user_version.
+// One object per connection and thread.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "detector/location.h"
+#include "storage/sqlite_statement.h"
+
+namespace memloop {
+
+struct LoopClosureRecord {
+  ImageIndex query_image = kNoImage;
+  ImageIndex match_image = kNoImage;
+  LocationId query_location = kNoLocation;
+  LocationId match_location = kNoLocation;
+  double probability = 0;
+};
+
+// One resume checkpoint (checkpoint.h) as rows: the STM/WM locations and the dictionary's index
+// points that changed since the previous checkpoint, and the detector's state blobs.
+struct CheckpointData {
+  bool full = false;  // replaces every location and index point the file holds
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> locations;
+  std::vector<LocationId> removed_locations;
+  bool reset_index = false;  // the index was rebuilt: its old points go
+  struct Point {
+    long long point;
+    WordId word;
+    std::vector<unsigned char> descriptor;  // written: empty when the file already holds it
+  };                                        // read: always the word's descriptor
+  std::vector<Point> index_points;          // consecutive points
+  // Descriptors of words no index point names any more, deleted a few thousand per checkpoint.
+  std::vector<WordId> forgotten_descriptors;
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> state;
+
+  size_t bytes() const;
+};
+
+class LtmDatabase {
+ public:
+  static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
+  // 1: LTM only. 2: adds the resume checkpoint (memory_locations, index_points, resume_state).
+  // 3: index points as chunks of word ids (index_chunks); each word's descriptor once
+  // (index_descriptors).
+  static constexpr int kFormatVersion = 3;
+
+  enum class Mode {
+    kCreate,  // a new map: the file must be absent or empty
+    kOpen,    // an existing memloop map, read and written
+    kRead,    // an existing memloop map, read only (its file is never written)
+    kAttach,  // as kOpen, for a further connection to a map another one has just opened: its
+              // identity is checked, not its integrity again (quick_check reads the whole file)
+  };
+  // Throws DatabaseError naming the file: not a regular file, not SQLite, not memloop's, newer
+  // format, damaged header or content, or (kCreate) already holding a map. A refused file is never
+  // written to: it is checked through a read-only connection first.
+  LtmDatabase(const std::string& path, Mode mode);
+
+  // SQLite max_page_count: writes past it fail as on a full disk (tests).
+  void LimitPages(long long pages);
+  void Begin();
+  void Commit();
+
+  void WriteLocation(const Location& location);
+  // A word's descriptor, as the bytes of its row (float or binary: the map's info says which).
+  void WriteWord(WordId id, const std::vector<unsigned char>& descriptor);
+  // Re-matched word (III-E): every reference to `old_id` becomes `new_id`; the old word goes.
+  void ReplaceWord(WordId old_id, WordId new_id);
+  // `absorbed` was merged into `survivor`: links to it now point to the survivor; its row goes.
+  void RedirectLocation(LocationId absorbed, LocationId survivor);
+  // A link of `from` (neighbour or loop closure) to `to`, kept when it exists already.
+  void WriteLink(LocationId from, LocationId to, bool loop_closure);
+  void WriteLoopClosure(const LoopClosureRecord& record);
+  void WriteInfo(const std::string& key, const std::string& value);
+  void WriteCheckpoint(const CheckpointData& checkpoint);
+
+  std::optional<Location> ReadLocation(LocationId id);
+  std::optional<std::vector<unsigned char>> ReadWord(WordId id);
+  std::vector<LocationId> ReadLinks(LocationId id);
+  std::vector<LoopClosureRecord> ReadLoopClosures();
+  std::string ReadInfo(const std::string& key);
+  // Every location id with rows in LTM, sorted.
+  std::vector<LocationId> ReadLocationIds();
+  // The checkpoint's rows: (id, blob) of memory locations and index points in point order.
+  std::vector<std::pair<LocationId, std::vector<unsigned char>>> ReadMemoryLocations();
+  std::vector<CheckpointData::Point> ReadIndexPoints();
+  std::optional<std::vector<unsigned char>> ReadState(const std::string& key);
+  int format_version() const { return format_version_; }
+  long long CountLocations();
+  long long CountWords();
+
+  const std::string& path() const { return connection_.path(); }
+
+ private:
+  // The checks above; returns the map's format version (kFormatVersion for a new file).
+  static int CheckMapFile(const std::string& path, Mode mode);
+  void CreateSchema();
+  SqliteStatement& Cached(const std::string& sql);
+
+  // The format version is also an info row, so that a damaged header is told from a newer map.
+  static constexpr const char* kFormatKey = "format_version";
+
+  int format_version_;  // before connection_: the file is checked before it is opened to write
+  SqliteConnection connection_;
+  std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
+};
+
+}  // namespace memloop

@@ -1,0 +1,222 @@
+#include "storage/ltm_database.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "memloop/errors.h"
+#include "small_memory.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+std::string ReadBytes(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return "";  // a folder or a device: nothing to keep
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+Location SampleLocation() {
+  Location location;
+  location.id = 12;
+  location.signature = testing::MakeSignature({5, 9, 5, 40});
+  location.weight = 3;
+  location.neighbours = {11, 13};
+  location.loop_closures = {2};
+  location.images = {11, 10, 3};
+  return location;
+}
+
+void ExpectSameLocation(const Location& a, const Location& b) {
+  EXPECT_EQ(a.id, b.id);
+  EXPECT_EQ(a.weight, b.weight);
+  EXPECT_EQ(a.signature.words, b.signature.words);
+  ASSERT_EQ(a.signature.keypoints.size(), b.signature.keypoints.size());
+  for (size_t i = 0; i < a.signature.keypoints.size(); ++i) {
+    EXPECT_EQ(a.signature.keypoints[i].pt, b.signature.keypoints[i].pt);
+    EXPECT_EQ(a.signature.keypoints[i].size, b.signature.keypoints[i].size);
+    EXPECT_EQ(a.signature.keypoints[i].angle, b.signature.keypoints[i].angle);
+    EXPECT_EQ(a.signature.keypoints[i].octave, b.signature.keypoints[i].octave);
+  }
+  EXPECT_EQ(a.neighbours, b.neighbours);
+  EXPECT_EQ(a.loop_closures, b.loop_closures);
+  EXPECT_EQ(a.images, b.images);
+}
+
+TEST(LtmDatabaseTest, RoundTrip) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.Begin();
+    database.WriteLocation(SampleLocation());
+    database.WriteWord(40, testing::FloatBytes({1.5f, -2.0f}));
+    database.WriteLoopClosure({41, 3, 42, 4, 0.25});
+    database.WriteInfo("param.memory.stm_size", "25");
+    database.Commit();
+  }
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  ExpectSameLocation(*database.ReadLocation(12), SampleLocation());
+  EXPECT_FALSE(database.ReadLocation(99).has_value());
+  EXPECT_EQ(*database.ReadWord(40), testing::FloatBytes({1.5f, -2.0f}));
+  EXPECT_EQ(database.ReadLinks(12), (std::vector<LocationId>{2, 11, 13}));
+  const auto loops = database.ReadLoopClosures();
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].query_image, 41);
+  EXPECT_EQ(loops[0].match_image, 3);
+  EXPECT_EQ(database.ReadInfo("param.memory.stm_size"), "25");
+}
+
+TEST(LtmDatabaseTest, ReplaceWordChangesEveryReferenceAndDropsTheOldWord) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  database.WriteLocation(SampleLocation());
+  database.WriteWord(5, testing::FloatBytes({1, 2}));
+  database.ReplaceWord(5, 77);
+  EXPECT_EQ(database.ReadLocation(12)->signature.words, (std::vector<WordId>{77, 9, 77, 40}));
+  EXPECT_FALSE(database.ReadWord(5).has_value());
+}
+
+TEST(LtmDatabaseTest, RedirectLocationMovesLinksToTheSurvivor) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  database.WriteLocation(SampleLocation());  // links to 11, 13 and loop closure 2
+  database.RedirectLocation(13, 20);
+  database.RedirectLocation(2, 12);  // a link to itself is dropped
+  const Location location = *database.ReadLocation(12);
+  EXPECT_EQ(location.neighbours, (std::set<LocationId>{11, 20}));
+  EXPECT_TRUE(location.loop_closures.empty());
+  database.RedirectLocation(12, 30);
+  EXPECT_FALSE(database.ReadLocation(12).has_value());
+  EXPECT_EQ(database.CountLocations(), 0);
+}
+
+class RefusedDatabaseTest : public ::testing::Test {
+ protected:
+  // Opening `path` as a new map must fail with a message containing `reason`, and leave it as it
+  // was, byte for byte.
+  void ExpectRefused(const std::string& path, const std::string& reason,
+                     LtmDatabase::Mode mode = LtmDatabase::Mode::kCreate) {
+    const std::string before = ReadBytes(path);
+    try {
+      LtmDatabase database(path, mode);
+      FAIL() << "accepted " << path;
+    } catch (const DatabaseError& error) {
+      EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(reason), std::string::npos) << error.what();
+    }
+    EXPECT_EQ(ReadBytes(path), before);
+  }
+  testing::TempDir dir_;
+};
+
+TEST_F(RefusedDatabaseTest, NotSqlite) {
+  const std::string path = dir_.File("notes.db");
+  std::ofstream(path) << "these are my notes, not a database\n";
+  ExpectRefused(path, "not a memloop map");
+}
+
+TEST_F(RefusedDatabaseTest, AnotherApplicationsDatabase) {
+  const std::string path = dir_.File("other.db");
+  {
+    SqliteConnection other(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+    other.Execute("CREATE TABLE customers(name TEXT); INSERT INTO customers VALUES('ada');");
+  }
+  ExpectRefused(path, "not a memloop map");
+}
+
+TEST_F(RefusedDatabaseTest, ExistingMapIsNotOverwritten) {
+  const std::string path = dir_.File("map.db");
+  {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.WriteLocation(SampleLocation());
+  }
+  ExpectRefused(path, "already holds a memloop map");
+  EXPECT_EQ(LtmDatabase(path, LtmDatabase::Mode::kOpen).CountLocations(), 1);
+}
+
+TEST_F(RefusedDatabaseTest, NewerFormat) {
+  const std::string path = dir_.File("future.db");
+  { LtmDatabase database(path, LtmDatabase::Mode::kCreate); }
+  {
+    SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
+    raw.Execute("PRAGMA user_version=99; UPDATE info SET value='99' WHERE key='format_version';");
+  }
+  ExpectRefused(path, "newer", LtmDatabase::Mode::kOpen);
+}
+
+// A header whose version disagrees with the map's own record was damaged; upgrading would not help.
+TEST_F(RefusedDatabaseTest, DamagedHeaderIsNotANewerFormat) {
+  const std::string path = dir_.File("scribbled.db");
+  { LtmDatabase database(path, LtmDatabase::Mode::kCreate); }
+  {
+    SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
+    raw.Execute("PRAGMA user_version=2131899478;");
+  }
+  ExpectRefused(path, "header is damaged (format version 2131899478 in the header, 3 in the map)",
+                LtmDatabase::Mode::kOpen);
+}
+
+// A run killed before SQLite folded its log: the map is in the -wal file. Refusing it reads it
+// through a read-only connection, so neither file changes (a read-write one would fold the log).
+TEST_F(RefusedDatabaseTest, MapStillInItsLogIsRefusedWithItsBytesKept) {
+  const std::string path = dir_.File("killed.db");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.WriteLocation(SampleLocation());
+    _exit(0);  // as kill -9: no close, no fold
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const std::string log = ReadBytes(path + "-wal");
+  ASSERT_FALSE(log.empty());
+  ExpectRefused(path, "already holds a memloop map");
+  EXPECT_EQ(ReadBytes(path + "-wal"), log);
+  {
+    LtmDatabase reader(path, LtmDatabase::Mode::kRead);
+    EXPECT_EQ(reader.CountLocations(), 1);
+  }
+  EXPECT_EQ(ReadBytes(path + "-wal"), log);
+}
+
+TEST_F(RefusedDatabaseTest, NotAFile) {
+  std::filesystem::create_directory(dir_.File("folder.db"));
+  ExpectRefused(dir_.File("folder.db"), "is a folder; a map is a file");
+  ExpectRefused("/dev/null", "is not a regular file");
+  ExpectRefused(dir_.File("no/such/folder/map.db"), "the folder");
+  ExpectRefused(dir_.File("absent.db"), "no such file", LtmDatabase::Mode::kOpen);
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("absent.db")));
+}
+
+TEST_F(RefusedDatabaseTest, Damaged) {
+  const std::string path = dir_.File("damaged.db");
+  {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.Begin();
+    for (int id = 1; id <= 300; ++id) {
+      Location location = SampleLocation();
+      location.id = id;
+      database.WriteLocation(location);
+    }
+    database.Commit();
+    SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
+    raw.Execute("PRAGMA wal_checkpoint(TRUNCATE);");
+  }
+  // Scribble over the middle of the file, past the header page.
+  std::string bytes = ReadBytes(path);
+  ASSERT_GT(bytes.size(), 16384u);
+  for (size_t i = 8192; i < 16384; ++i) bytes[i] = static_cast<char>(i * 31);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  ExpectRefused(path, "damaged", LtmDatabase::Mode::kOpen);
+}
+
+}  // namespace
+}  // namespace memloop

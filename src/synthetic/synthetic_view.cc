@@ -1,0 +1,94 @@
+#include "synthetic/synthetic_view.h"
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+
+cv::Mat MakeTexture(int width, int height, cv::RNG& rng) {
+  cv::Mat coarse(height / 16 + 1, width / 16 + 1, CV_8U);
+  rng.fill(coarse, cv::RNG::UNIFORM, 60, 190);
+  cv::Mat texture;
+  cv::resize(coarse, texture, cv::Size(width, height), 0, 0, cv::INTER_CUBIC);
+  const int shapes = width * height / 900;
+  for (int n = 0; n < shapes; ++n) {
+    const cv::Point center(rng.uniform(0, width), rng.uniform(0, height));
+    const cv::Scalar gray(rng.uniform(0, 256));
+    const int size = rng.uniform(3, 22);
+    switch (rng.uniform(0, 4)) {
+      case 0:
+        cv::circle(texture, center, size, gray, cv::FILLED, cv::LINE_AA);
+        break;
+      case 1:
+        cv::rectangle(texture, center, center + cv::Point(size, rng.uniform(3, 22)), gray,
+                      cv::FILLED);
+        break;
+      case 2:
+        cv::ellipse(texture, center, cv::Size(size, rng.uniform(2, 12)), rng.uniform(0, 180), 0,
+                    360, gray, cv::FILLED, cv::LINE_AA);
+        break;
+      default:
+        cv::line(texture, center, center + cv::Point(rng.uniform(-25, 25), rng.uniform(-25, 25)),
+                 gray, rng.uniform(1, 4), cv::LINE_AA);
+    }
+  }
+  return texture;
+}
+
+ViewJitter ViewJitter::Random(cv::RNG& rng) {
+  ViewJitter jitter;
+  jitter.dx = rng.uniform(-12.0, 12.0);
+  jitter.dy = rng.uniform(-8.0, 8.0);
+  jitter.scale = rng.uniform(0.95, 1.05);
+  jitter.angle_degrees = rng.uniform(-3.0, 3.0);
+  jitter.gain = rng.uniform(0.8, 1.2);
+  jitter.bias = rng.uniform(-20.0, 20.0);
+  return jitter;
+}
+
+cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& jitter, int width,
+                   int height, uint64_t noise_seed) {
+  // Output pixel -> world pixel: rotation and scale about the image centre, then the offset.
+  const cv::Point2f centre(width / 2.0f, height / 2.0f);
+  cv::Mat to_world = cv::getRotationMatrix2D(centre, jitter.angle_degrees, 1.0 / jitter.scale);
+  to_world.at<double>(0, 2) += x + jitter.dx;
+  to_world.at<double>(1, 2) += y + jitter.dy;
+  cv::Mat view;
+  cv::warpAffine(world, view, to_world, cv::Size(width, height),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT);
+  view.convertTo(view, CV_8U, jitter.gain, jitter.bias);
+  cv::Mat noise(view.size(), CV_16S);
+  cv::RNG noise_rng(noise_seed);
+  noise_rng.fill(noise, cv::RNG::NORMAL, 0, 2.0);
+  cv::Mat noisy;
+  view.convertTo(noisy, CV_16S);
+  noisy += noise;
+  noisy.convertTo(view, CV_8U);
+  cv::Mat color;
+  cv::cvtColor(view, color, cv::COLOR_GRAY2BGR);
+  return color;
+}
+
+void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
+                   const std::vector<std::pair<int, int>>& pairs) {
+  const std::string images = folder + "/images";
+  std::error_code error;
+  std::filesystem::create_directories(images, error);
+  if (error) throw InputError(images, "cannot create the folder (" + error.message() + ")");
+  for (int index = 0; index < size; ++index) {
+    const std::string path = images + "/" + std::to_string(index + 1) + ".png";
+    if (!cv::imwrite(path, render(index))) throw InputError(path, "cannot write the image");
+  }
+  const std::string csv_path = folder + "/ground_truth_pairs.csv";
+  std::ofstream csv(csv_path);
+  csv << "query,match\n";
+  for (const auto& [query, match] : pairs) csv << query + 1 << ".png," << match + 1 << ".png\n";
+  csv.close();  // the last buffer's write is checked too
+  if (!csv) throw InputError(csv_path, "cannot write the ground truth");
+}
+
+}  // namespace memloop

@@ -1,0 +1,84 @@
+// The incremental visual dictionary (paper III-A): the words of the locations in STM and WM, a
+// kd-forest over their descriptors for quantization, and each word's references to the
+// locations that contain it (the inverted index used by the likelihood, eq. 3).
+#pragma once
+
+#include <map>
+#include <opencv2/core.hpp>
+#include <set>
+#include <unordered_map>
+#include <vector>
+
+#include "memloop/options.h"
+#include "memloop/types.h"
+#include "vocabulary/word_index.h"
+
+namespace memloop {
+
+class Dictionary {
+ public:
+  // Throws Error when `kind` and `descriptor_dim` are not a valid pair.
+  Dictionary(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& options);
+
+  // For each row, the nearest word when it passes the nearest-neighbour distance ratio test
+  // (d1 < nndr_ratio * d2, true distances), else kNoWord. A lone word passes. Throws Error when
+  // the descriptors are not of the dictionary's kind and size (one map, one feature type).
+  std::vector<WordId> Match(const cv::Mat& descriptors) const;
+
+  // Quantization of a new signature: Match(), then every row that matched nothing becomes a
+  // new word. New words are added after all rows are matched, so rows of one image never match
+  // each other. `new_word_count` receives how many words were created.
+  std::vector<WordId> Quantize(const cv::Mat& descriptors, int* new_word_count);
+
+  // Adds words under given ids (words retrieved from LTM keep theirs).
+  void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors);
+  // Removes a word; it must have no reference left.
+  void Remove(WordId id);
+
+  bool Contains(WordId id) const { return words_.count(id) > 0; }
+  // Every word's id, sorted.
+  std::vector<WordId> Ids() const;
+  // The word's descriptor as a 1-row matrix (a copy).
+  cv::Mat Descriptor(WordId id) const;
+  size_t size() const { return words_.size(); }
+  int descriptor_dim() const { return index_->dim(); }
+  DescriptorKind descriptor_kind() const { return index_->kind(); }
+  int descriptor_cv_type() const { return index_->cv_type(); }
+  const WordIndex& index() const { return *index_; }
+
+  // References: how many times each location's signature holds the word.
+  void AddReference(WordId id, LocationId location);
+  // Drops all references of `location` to the word. True when the word has none left.
+  bool RemoveReferences(WordId id, LocationId location);
+  // location -> occurrences; empty map for unknown words.
+  const std::map<LocationId, int>& References(WordId id) const;
+
+  // A word is marked when a location of LTM refers to it: when it leaves the dictionary it must
+  // then be kept in LTM (paper III-F), otherwise it can be forgotten.
+  void MarkReferencedByLtm(WordId id);
+  bool IsReferencedByLtm(WordId id) const;
+
+  WordId next_word_id() const { return next_word_id_; }
+  // Every word marked referenced by LTM, sorted.
+  std::vector<WordId> IdsReferencedByLtm() const;
+
+  // Resuming a map: the words `ids` (no references yet: Memory::Reload adds them), the index as
+  // `history` left it, the LTM marks and the next id to give. Throws Error when they disagree.
+  void Reload(const std::vector<WordId>& ids, const IndexHistory& history,
+              const std::vector<WordId>& referenced_by_ltm, WordId next_word_id);
+
+ private:
+  struct Word {
+    std::map<LocationId, int> references;
+  };
+
+  DictionaryOptions options_;
+  void CheckDescriptors(const cv::Mat& descriptors) const;
+
+  std::unique_ptr<WordIndex> index_;
+  std::unordered_map<WordId, Word> words_;
+  std::set<WordId> referenced_by_ltm_;  // marked words, a subset of words_
+  WordId next_word_id_ = 1;
+};
+
+}  // namespace memloop

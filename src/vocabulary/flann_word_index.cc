@@ -1,0 +1,452 @@
+#include <algorithm>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <future>
+#include <mutex>
+#include <unordered_map>
+
+#include "memloop/errors.h"
+#include "vocabulary/flann_deterministic.h"
+#include "vocabulary/word_index.h"
+
+namespace memloop {
+namespace {
+
+float TrueDistance(const flann::L2<float>&, float squared) {
+  return std::sqrt(std::max(0.0f, squared));
+}
+float TrueDistance(const flann::Hamming<unsigned char>&, unsigned int bits) {
+  return static_cast<float>(bits);
+}
+
+flann::IndexParams IndexParams(const flann::L2<float>&, const DictionaryOptions& options) {
+  return flann::KDTreeIndexParams(options.kd_trees);
+}
+flann::IndexParams IndexParams(const flann::Hamming<unsigned char>&,
+                               const DictionaryOptions& options) {
+  return flann::LshIndexParams(options.lsh_tables, options.lsh_key_bits, options.lsh_probe_level);
+}
+
+// A FLANN index built over `points` with the dictionary's seed. FLANN draws its splits from
+// std::rand, which is process-wide: builds (in the background or not, of any index) take turns so
+// that each draws an unbroken sequence from its seed.
+template <typename Distance>
+std::unique_ptr<flann::Index<Distance>> BuildIndex(
+    const flann::Matrix<typename Distance::ElementType>& points, const DictionaryOptions& options) {
+  static std::mutex build_mutex;
+  const std::lock_guard<std::mutex> lock(build_mutex);
+  flann::seed_random(options.seed);
+  auto index = std::make_unique<flann::Index<Distance>>(points, IndexParams(Distance(), options));
+  index->buildIndex();
+  return index;
+}
+
+// FLANN index over the words, with the words' descriptors owned here: FLANN keeps pointers into
+// the points it is given, so they live in `buffers_` until the next rebuild compacts them.
+template <typename Distance>
+class FlannWordIndex : public WordIndex {
+ public:
+  using Element = typename Distance::ElementType;
+  using Index = flann::Index<Distance>;
+
+  FlannWordIndex(DescriptorKind kind, int dim, const DictionaryOptions& options)
+      : WordIndex(kind, dim), options_(options) {}
+
+  void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) override {
+    assert(descriptors.type() == cv_type() && descriptors.cols == dim());
+    assert(static_cast<int>(ids.size()) == descriptors.rows);
+    if (ids.empty()) return;
+    buffers_.emplace_back(ids.size() * dim());
+    std::vector<Element>& buffer = buffers_.back();
+    for (int row = 0; row < descriptors.rows; ++row) {
+      std::copy_n(descriptors.ptr<Element>(row), dim(), buffer.data() + row * dim());
+    }
+    flann::Matrix<Element> points(buffer.data(), ids.size(), dim());
+    const size_t first_point = next_point_;  // FLANN names points in order, never reusing one
+    next_point_ += ids.size();
+    batch_starts_.push_back(first_point);
+    if (index_) {
+      index_->addPoints(points, /*rebuild_threshold=*/1.0f);  // <= 1: never rebuild by itself
+    } else {
+      Build(points);
+    }
+    for (size_t i = 0; i < ids.size(); ++i) {
+      point_of_word_[ids[i]] = first_point + i;
+      word_of_point_[first_point + i] = ids[i];
+      point_words_.push_back(ids[i]);
+    }
+    if (first_point == 0) {  // this Add built the index
+      size_at_build_ = ids.size();
+      return;
+    }
+    changes_since_build_ += ids.size();
+    if (pending_) {
+      ++pending_->age;
+      const bool due =
+          options_.rebuild_swap_when_ready
+              ? pending_->built.wait_for(std::chrono::seconds(0)) == std::future_status::ready
+              : pending_->age >= SwapDelay(pending_->words.size());
+      if (due) FinishBuild();
+    } else if (changes_since_build_ >
+               options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
+      if (options_.rebuild_delay > 0 && !point_of_word_.empty()) {
+        StartBuild();
+      } else {
+        Rebuild();
+      }
+    }
+  }
+
+  void Remove(WordId id) override {
+    const auto found = point_of_word_.find(id);
+    if (found == point_of_word_.end()) return;
+    index_->removePoint(found->second);
+    word_of_point_.erase(found->second);
+    point_of_word_.erase(found);
+    ++changes_since_build_;
+  }
+
+  bool Contains(WordId id) const override { return point_of_word_.count(id) > 0; }
+  size_t size() const override { return point_of_word_.size(); }
+  int build_count() const override { return build_count_; }
+
+  cv::Mat Descriptor(WordId id) const override {
+    const Element* data = Point(id);
+    if (data == nullptr) return {};
+    return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(data)).clone();
+  }
+
+  cv::Mat PointDescriptor(size_t point) const override {
+    assert(point < next_point_);
+    return cv::Mat(1, dim(), cv_type(), const_cast<Element*>(index_->getPoint(point))).clone();
+  }
+
+  std::vector<WordId> PendingWords() const override {
+    return pending_ ? pending_->words : std::vector<WordId>();
+  }
+
+  IndexHistory History(size_t from_point, bool complete) const override {
+    IndexHistory history;
+    history.build_count = build_count_;
+    history.size_at_build = size_at_build_;
+    history.changes_since_build = changes_since_build_;
+    history.batch_starts = batch_starts_;
+    history.point_count = next_point_;
+    history.first_point = std::min(from_point, next_point_);
+    history.point_words.assign(point_words_.begin() + history.first_point, point_words_.end());
+    if (complete) {
+      history.descriptors.create(static_cast<int>(next_point_ - history.first_point), dim(),
+                                 cv_type());
+    }
+    for (size_t point = history.first_point; complete && point < next_point_; ++point) {
+      std::copy_n(index_->getPoint(point), dim(),
+                  history.descriptors.ptr<Element>(static_cast<int>(point - history.first_point)));
+    }
+    if (pending_) {
+      history.pending = true;
+      if (complete) history.pending_words = pending_->words;
+      history.pending_point = pending_->snapshot_point;
+      history.pending_age = pending_->age;
+    }
+    return history;
+  }
+
+  void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) override {
+    CheckHistory(history);
+    pending_.reset();
+    index_.reset();
+    buffers_.clear();
+    point_of_word_.clear();
+    word_of_point_.clear();
+    for (size_t batch = 0; batch < history.batch_starts.size(); ++batch) {
+      const size_t begin = history.batch_starts[batch];
+      const size_t end = batch + 1 < history.batch_starts.size() ? history.batch_starts[batch + 1]
+                                                                 : history.point_count;
+      buffers_.emplace_back((end - begin) * dim());
+      for (size_t point = begin; point < end; ++point) {
+        std::copy_n(history.descriptors.ptr<Element>(static_cast<int>(point)), dim(),
+                    buffers_.back().data() + (point - begin) * dim());
+      }
+      flann::Matrix<Element> points(buffers_.back().data(), end - begin, dim());
+      if (index_) {
+        index_->addPoints(points, /*rebuild_threshold=*/1.0f);
+      } else {
+        Build(points);
+      }
+    }
+    std::unordered_map<WordId, size_t> latest_point;
+    std::unordered_map<WordId, size_t> latest_point_before;  // the pending build's snapshot
+    for (size_t point = 0; point < history.point_count; ++point) {
+      latest_point[history.point_words[point]] = point;
+      if (history.pending && point < history.pending_point) {
+        latest_point_before[history.point_words[point]] = point;
+      }
+    }
+    for (WordId word : live_words) {
+      const auto found = latest_point.find(word);
+      if (found == latest_point.end()) {
+        throw Error("word " + std::to_string(word) + " is not in the dictionary's index history");
+      }
+      point_of_word_[word] = found->second;
+      word_of_point_[found->second] = word;
+    }
+    for (size_t point = 0; point < history.point_count; ++point) {
+      if (!word_of_point_.count(point)) index_->removePoint(point);
+    }
+    point_words_ = history.point_words;
+    batch_starts_ = history.batch_starts;
+    next_point_ = history.point_count;
+    size_at_build_ = history.size_at_build;
+    changes_since_build_ = history.changes_since_build;
+    build_count_ = history.build_count;
+    if (history.pending) ReplayPendingBuild(history, latest_point_before);
+  }
+
+  std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const override {
+    assert(queries.type() == cv_type() && queries.cols == dim());
+    std::vector<std::array<Neighbour, 2>> result(queries.rows);
+    const size_t k = std::min<size_t>(2, size());
+    if (k == 0 || queries.rows == 0) return result;
+    cv::Mat contiguous = queries.isContinuous() ? queries : queries.clone();
+    flann::Matrix<Element> query_matrix(contiguous.ptr<Element>(), queries.rows, dim());
+    using DistanceType = typename Distance::ResultType;
+    std::vector<size_t> indices(queries.rows * k, static_cast<size_t>(-1));
+    std::vector<DistanceType> distances(queries.rows * k);
+    flann::Matrix<size_t> index_matrix(indices.data(), queries.rows, k);
+    flann::Matrix<DistanceType> distance_matrix(distances.data(), queries.rows, k);
+    flann::SearchParams params(options_.kd_checks);
+    params.cores = 1;  // one thread: repeatable, and a predictable time per image
+    index_->knnSearch(query_matrix, index_matrix, distance_matrix, k, params);
+    for (int row = 0; row < queries.rows; ++row) {
+      for (size_t n = 0; n < k; ++n) {
+        const auto word = word_of_point_.find(index_matrix[row][n]);
+        if (word == word_of_point_.end()) continue;  // fewer than k found
+        result[row][n] = {word->second, TrueDistance(Distance(), distance_matrix[row][n])};
+      }
+    }
+    return result;
+  }
+
+ private:
+  const Element* Point(WordId id) const {
+    const auto found = point_of_word_.find(id);
+    return found == point_of_word_.end() ? nullptr : index_->getPoint(found->second);
+  }
+
+  void CheckHistory(const IndexHistory& history) const {
+    bool valid = history.first_point == 0 && history.point_words.size() == history.point_count &&
+                 static_cast<size_t>(history.descriptors.rows) == history.point_count &&
+                 (history.point_count == 0 ||
+                  (history.descriptors.type() == cv_type() && history.descriptors.cols == dim() &&
+                   history.descriptors.isContinuous())) &&
+                 (history.point_count == 0) == history.batch_starts.empty();
+    for (size_t batch = 0; valid && batch < history.batch_starts.size(); ++batch) {
+      const size_t start = history.batch_starts[batch];
+      valid = start < history.point_count &&
+              (batch == 0 ? start == 0 : start > history.batch_starts[batch - 1]);
+    }
+    valid = valid && (!history.pending ||
+                      (history.pending_point <= history.point_count && history.pending_age >= 0 &&
+                       std::is_sorted(history.pending_words.begin(), history.pending_words.end())));
+    if (!valid) throw Error("the dictionary's index history is inconsistent");
+  }
+
+  void Build(const flann::Matrix<Element>& points) {
+    index_ = BuildIndex<Distance>(points, options_);
+    ++build_count_;
+  }
+
+  // What the background thread makes: the index over the snapshot and its point <-> word maps.
+  struct Built {
+    std::unique_ptr<Index> index;
+    std::unordered_map<WordId, size_t> point_of_word;
+    std::unordered_map<size_t, WordId> word_of_point;
+  };
+  struct PendingBuild {
+    std::vector<WordId> words;  // sorted: point k of the new index is words[k]
+    size_t snapshot_point = 0;  // next_point_ when it started
+    int age = 0;                // Adds since
+    std::vector<Element> buffer;
+    std::future<Built> built;
+  };
+
+  // The live words, sorted (so that the same history gives the same index), and their
+  // descriptors row by row: what a full build is made from.
+  std::pair<std::vector<WordId>, std::vector<Element>> Snapshot() const {
+    std::vector<WordId> words;
+    words.reserve(point_of_word_.size());
+    for (const auto& entry : point_of_word_) words.push_back(entry.first);
+    std::sort(words.begin(), words.end());
+    std::vector<Element> buffer(words.size() * dim());
+    for (size_t i = 0; i < words.size(); ++i) {
+      std::copy_n(Point(words[i]), dim(), buffer.data() + i * dim());
+    }
+    return {std::move(words), std::move(buffer)};
+  }
+
+  void StartBuild() {
+    auto [words, buffer] = Snapshot();
+    LaunchBuild(std::move(words), std::move(buffer), next_point_, 0);
+  }
+
+  void LaunchBuild(std::vector<WordId> words, std::vector<Element> buffer, size_t snapshot_point,
+                   int age) {
+    pending_ = std::make_unique<PendingBuild>();
+    pending_->words = std::move(words);
+    pending_->snapshot_point = snapshot_point;
+    pending_->age = age;
+    pending_->buffer = std::move(buffer);  // its rows stay where they are for the new index
+    const flann::Matrix<Element> points(pending_->buffer.data(), pending_->words.size(), dim());
+    const std::vector<WordId>* words_of_points = &pending_->words;  // read-only while it runs
+    pending_->built = std::async(std::launch::async, [points, words_of_points, options = options_] {
+      Built built;
+      built.index = BuildIndex<Distance>(points, options);
+      built.point_of_word.reserve(words_of_points->size());
+      built.word_of_point.reserve(words_of_points->size());
+      for (size_t point = 0; point < words_of_points->size(); ++point) {
+        built.point_of_word[(*words_of_points)[point]] = point;
+        built.word_of_point[point] = (*words_of_points)[point];
+      }
+      return built;
+    });
+  }
+
+  // The snapshot of a checkpoint's pending build: each word's descriptor as it was then.
+  void ReplayPendingBuild(const IndexHistory& history,
+                          const std::unordered_map<WordId, size_t>& latest_point_before) {
+    std::vector<Element> buffer(history.pending_words.size() * dim());
+    for (size_t i = 0; i < history.pending_words.size(); ++i) {
+      const auto found = latest_point_before.find(history.pending_words[i]);
+      if (found == latest_point_before.end()) {
+        throw Error("word " + std::to_string(history.pending_words[i]) +
+                    " of the pending rebuild is not in the dictionary's index history");
+      }
+      std::copy_n(history.descriptors.ptr<Element>(static_cast<int>(found->second)), dim(),
+                  buffer.data() + i * dim());
+    }
+    LaunchBuild(history.pending_words, std::move(buffer), history.pending_point,
+                history.pending_age);
+  }
+
+  // The new index replaces the old one, brought up to date: the words added since the snapshot
+  // (in word order) are added to it, and the snapshot's points of words removed or added again
+  // since are removed. A replay of the history (batch 0 = the snapshot, batch 1 = those words)
+  // builds the same index. Work here is in the changes since the snapshot, plus one lookup per
+  // snapshot word: the maps were made in the background, the old index is freed there too.
+  void FinishBuild() {
+    std::unique_ptr<PendingBuild> pending = std::move(pending_);
+    Built built = pending->built.get();  // waits when not built yet
+    const size_t snapshot_size = pending->words.size();
+    std::vector<WordId> added;  // live words whose point came after the snapshot
+    for (size_t point = pending->snapshot_point; point < next_point_; ++point) {
+      const WordId word = point_words_[point];
+      const auto found = point_of_word_.find(word);
+      if (found != point_of_word_.end() && found->second == point) added.push_back(word);
+    }
+    std::sort(added.begin(), added.end());
+    std::vector<Element> added_buffer(added.size() * dim());
+    for (size_t i = 0; i < added.size(); ++i) {
+      std::copy_n(Point(added[i]), dim(), added_buffer.data() + i * dim());
+    }
+    size_t removed = 0;  // snapshot points whose word left, or came back after the snapshot
+    for (size_t point = 0; point < snapshot_size; ++point) {
+      const auto found = point_of_word_.find(pending->words[point]);
+      if (found != point_of_word_.end() && found->second < pending->snapshot_point) continue;
+      built.index->removePoint(point);
+      built.point_of_word.erase(pending->words[point]);
+      built.word_of_point.erase(point);
+      ++removed;
+    }
+    std::deque<std::vector<Element>> buffers;
+    buffers.push_back(std::move(pending->buffer));
+    batch_starts_ = {0};
+    if (!added.empty()) {
+      buffers.push_back(std::move(added_buffer));
+      built.index->addPoints(flann::Matrix<Element>(buffers.back().data(), added.size(), dim()),
+                             /*rebuild_threshold=*/1.0f);
+      batch_starts_.push_back(snapshot_size);
+      for (size_t i = 0; i < added.size(); ++i) {
+        built.point_of_word[added[i]] = snapshot_size + i;
+        built.word_of_point[snapshot_size + i] = added[i];
+      }
+    }
+    Retire();
+    index_.swap(built.index);
+    buffers_.swap(buffers);
+    point_of_word_.swap(built.point_of_word);
+    word_of_point_.swap(built.word_of_point);
+    retired_ = std::async(std::launch::async,
+                          [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
+                            old.index.reset();  // the old forest and maps, freed off the iteration
+                            old_buffers.clear();
+                          });
+    point_words_ = std::move(pending->words);
+    point_words_.insert(point_words_.end(), added.begin(), added.end());
+    next_point_ = point_words_.size();
+    size_at_build_ = snapshot_size;
+    changes_since_build_ = added.size() + removed;
+    ++build_count_;
+  }
+
+  // Insertions between the start of a build and its use when T_time is off: rebuild_delay, or one
+  // per 10,000 words of the snapshot when that is more, so that a large forest (a million words
+  // take about 3 s to build on 2 cores) is ready when its turn comes instead of being waited for.
+  int SwapDelay(size_t snapshot_words) const {
+    return std::max(options_.rebuild_delay, static_cast<int>(snapshot_words / 10000));
+  }
+
+  // Waits for the previous old forest to be freed (long done, in practice).
+  void Retire() {
+    if (retired_.valid()) retired_.get();
+  }
+
+  // A new index over the live points, in word order so the same history gives the same index.
+  void Rebuild() {
+    auto [ids, buffer] = Snapshot();
+    index_.reset();
+    buffers_.clear();
+    point_of_word_.clear();
+    word_of_point_.clear();
+    size_at_build_ = ids.size();
+    next_point_ = ids.size();
+    changes_since_build_ = 0;
+    point_words_ = ids;
+    batch_starts_.clear();
+    if (ids.empty()) return;
+    batch_starts_.push_back(0);
+    buffers_.push_back(std::move(buffer));
+    Build(flann::Matrix<Element>(buffers_.back().data(), ids.size(), dim()));
+    for (size_t i = 0; i < ids.size(); ++i) {
+      point_of_word_[ids[i]] = i;
+      word_of_point_[i] = ids[i];
+    }
+  }
+
+  DictionaryOptions options_;
+  std::unique_ptr<PendingBuild> pending_;  // its destruction waits for the build thread
+  std::future<void> retired_;              // the old forest being freed after a swap
+  std::unique_ptr<Index> index_;
+  std::deque<std::vector<Element>> buffers_;
+  std::unordered_map<WordId, size_t> point_of_word_;
+  std::unordered_map<size_t, WordId> word_of_point_;  // live points only
+  std::vector<WordId> point_words_;                   // every point since the build (History)
+  std::vector<size_t> batch_starts_;                  // first point of each Add since the build
+  size_t next_point_ = 0;
+  size_t size_at_build_ = 0;
+  size_t changes_since_build_ = 0;
+  int build_count_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<WordIndex> WordIndex::Create(DescriptorKind kind, int dim,
+                                             const DictionaryOptions& options) {
+  if (kind == DescriptorKind::kBinary) {
+    return std::make_unique<FlannWordIndex<flann::Hamming<unsigned char>>>(kind, dim, options);
+  }
+  return std::make_unique<FlannWordIndex<flann::L2<float>>>(kind, dim, options);
+}
+
+}  // namespace memloop

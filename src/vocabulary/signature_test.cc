@@ -1,0 +1,36 @@
+#include "vocabulary/signature.h"
+
+#include <gtest/gtest.h>
+
+#include "small_memory.h"
+
+namespace memloop {
+namespace {
+
+using testing::MakeSignature;
+
+TEST(SignatureTest, HistogramCountsRepeatedWords) {
+  const auto histogram = MakeSignature({3, 1, 3, 2, 3}).Histogram();
+  const std::vector<std::pair<WordId, int>> expected = {{1, 1}, {2, 1}, {3, 3}};
+  EXPECT_EQ(histogram, expected);
+}
+
+TEST(SignatureTest, WordPairsTakeTheSmallerCount) {
+  // t: {1:1, 2:2, 3:1}; c: {2:1, 3:2, 4:1, 5:1} -> min(2,1) + min(1,2) = 2 pairs.
+  EXPECT_EQ(CountWordPairs(MakeSignature({1, 2, 2, 3}).Histogram(),
+                           MakeSignature({2, 3, 3, 4, 5}).Histogram()),
+            2);
+}
+
+TEST(SignatureTest, Equation1DividesByTheLargerSignature) {
+  // N_zt = 4 < N_zc = 5: s = N_pair / N_zc = 2 / 5.
+  EXPECT_DOUBLE_EQ(Similarity(MakeSignature({1, 2, 2, 3}), MakeSignature({2, 3, 3, 4, 5})), 0.4);
+  // N_zt = 6 >= N_zc = 2: s = N_pair / N_zt = 2 / 6.
+  EXPECT_DOUBLE_EQ(Similarity(MakeSignature({1, 2, 3, 4, 5, 6}), MakeSignature({1, 2})), 2.0 / 6);
+  EXPECT_DOUBLE_EQ(Similarity(MakeSignature({7, 8}), MakeSignature({8, 7})), 1.0);
+  EXPECT_DOUBLE_EQ(Similarity(MakeSignature({}), MakeSignature({})), 0.0);
+  EXPECT_DOUBLE_EQ(Similarity(MakeSignature({1}), MakeSignature({2})), 0.0);
+}
+
+}  // namespace
+}  // namespace memloop
