@@ -63,6 +63,31 @@ TEST_F(CliTest, PresetChoosesTheStartingValues) {
   EXPECT_FALSE(std::filesystem::exists(other));
 }
 
+// preset, then --config, then --set (later wins); the map keeps every value at full precision.
+TEST_F(CliTest, ConfigFileGoesBetweenPresetAndSet) {
+  const std::string config = dir_.File("robot.ini");
+  std::ofstream(config) << "# our robot\nmemory.stm_size = 12\n[dictionary]\nseed = 1234567\n"
+                           "[filter]\nloop_threshold = 0.123456789\nrequire_support = off\n";
+  const std::string db = dir_.File("config.db");
+  const Outcome run = Memloop("run " + Images() + " --preset paper2011 --config " + config +
+                              " --set memory.stm_size=14 memory.time_limit_ms=0 --db " + db);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const memloop::Options map = memloop::ReadMapOptions(db);
+  EXPECT_EQ(map.memory.stm_size, 14);
+  EXPECT_EQ(map.dictionary.seed, 1234567);
+  EXPECT_EQ(map.filter.loop_threshold, 0.123456789);
+  EXPECT_EQ(map.filter.require_support, 0);
+  EXPECT_EQ(map.filter.hypothesis_value, "neighbours");  // the preset's, untouched
+  std::ofstream(config) << "memory.stm_size = 12\nmemory.stm = 3\n";
+  const Outcome bad =
+      Memloop("run " + Images() + " --config " + config + " --db " + dir_.File("bad.db"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_TRUE(Contains(bad.output,
+                       "memloop: error: " + config + ": line 2: Unknown parameter 'memory.stm'"))
+      << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("bad.db")));
+}
+
 TEST_F(CliTest, RunWritesOneRowPerImageInNaturalOrder) {
   const std::string csv = dir_.File("results.csv");
   const Outcome run = Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv);

@@ -21,6 +21,7 @@ struct Parameter {
   double min = 0;    // numeric range [min, max] (min excluded when min_exclusive)
   double max = 0;
   bool min_exclusive = false;
+  bool flag = false;                 // an int field used as a boolean: "true" / "false"
   std::vector<std::string> choices;  // allowed values of a string parameter
   std::string symbol;                // the paper's symbol or equation, "" when none
   std::string description;           // one line
@@ -28,7 +29,7 @@ struct Parameter {
   // Features, SURF and dictionary parameters: they define what a stored word means and how
   // words are found, so a map keeps them (resuming with another value is refused).
   bool DefinesMap() const;
-  std::string TypeName() const;                   // "int", "double", "string"
+  std::string TypeName() const;                   // "int", "double", "string", "bool"
   std::string Get(const Options& options) const;  // value as text
   std::string RangeText() const;                  // "[0, 1]", "(0, 1]", "sift|orb"
   // Parses and range-checks `value`, then stores it. Throws ParameterError naming key and value.
@@ -43,6 +44,11 @@ const std::vector<Parameter>& Parameters();
 const Parameter* FindParameter(const std::string& key);
 // Applies "NAME=VALUE". Throws ParameterError for an unknown name, a malformed or invalid value.
 void SetParameter(Options& options, const std::string& assignment);
+// Applies a parameter file, in order: INI lines "name = value", or "[section]" then
+// "name = value" for "section.name"; comments from '#' or ';' (at the start or after a blank);
+// blank lines. Throws InputError naming the file and the line (unknown name, invalid value,
+// malformed line).
+void ApplyParameterFile(Options& options, const std::string& path);
 // Throws ParameterError for the first invalid value, e.g.
 // "Invalid parameter memory.stm_size = -1: must be in [0, 100000]".
 void ValidateOptions(const Options& options);

@@ -1,6 +1,9 @@
 #include "memloop/params.h"
 
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "memloop/errors.h"
@@ -22,6 +25,8 @@ class Param {
   Param& Choices(std::vector<std::string> choices) {
     return row_.choices = std::move(choices), *this;
   }
+  // An on/off switch (an int field holding 0 or 1): true/false, on/off, yes/no or 1/0.
+  Param& Flag() { return Range(0, 1), row_.flag = true, *this; }
   Param& Symbol(std::string symbol) { return row_.symbol = std::move(symbol), *this; }
   Param& Help(std::string description) { return row_.description = std::move(description), *this; }
   operator Parameter() const { return row_; }
@@ -51,10 +56,10 @@ std::vector<Parameter> MakeRegistry() {
         .Help("SURF: filter sizes per octave (maxima are searched in the inner ones)"),
     Param("surf.sample_step", MEMLOOP_FIELD(features.surf_sample_step)).Unit("pixels").Range(1, 8)
         .Help("SURF: sampling step of the first octave, doubled per octave"),
-    Param("surf.extended", MEMLOOP_FIELD(features.surf_extended)).Range(0, 1)
-        .Help("SURF: 1 for 128-d descriptors, 0 for 64-d"),
-    Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Range(0, 1)
-        .Help("SURF: 1 for U-SURF (no orientation: faster, not rotation invariant)"),
+    Param("surf.extended", MEMLOOP_FIELD(features.surf_extended)).Flag()
+        .Help("SURF: true for 128-d descriptors, false for 64-d"),
+    Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Flag()
+        .Help("SURF: true for U-SURF (no orientation: faster, not rotation invariant)"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
         .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
     Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
@@ -89,8 +94,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
-    Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Range(0, 1)
-        .Help("1: the highest hypothesis' neighbourhood leaves WM after every other location (0 = by weight and age, the paper)"),
+    Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Flag()
+        .Help("true: the highest hypothesis' neighbourhood leaves WM after every other location (false = by weight and age, the paper)"),
     Param("filter.loop_threshold", MEMLOOP_FIELD(filter.loop_threshold)).Range(0, 1)
         .Symbol("T_loop").Help("Hypothesis value (filter.hypothesis_value) above which a loop closure is accepted"),
     Param("filter.min_hypotheses", MEMLOOP_FIELD(filter.min_hypotheses)).Unit("locations")
@@ -108,8 +113,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("III-D").Help("Value compared with T_loop: neighbours (posterior summed around the highest hypothesis, the paper) or loop_mass (1 - p(virtual place))"),
     Param("filter.likelihood", MEMLOOP_FIELD(filter.likelihood)).Choices({"similarity", "tfidf"})
         .Symbol("eq. 1 / III-C").Help("Score of L_t against each WM location: similarity (eq. 1, the paper) or tfidf (shared words weighted by log(N/n_w))"),
-    Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Range(0, 1)
-        .Symbol("eq. 3").Help("1: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (0 = the paper)"),
+    Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Flag()
+        .Symbol("eq. 3").Help("true: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (false = the paper)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
         .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
@@ -122,10 +127,21 @@ std::vector<Parameter> MakeRegistry() {
 
 #undef MEMLOOP_FIELD
 
+// The shortest text that reads back as the same double (1234567, not 1.23457e+06; 0.2).
 std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
+  char text[32];
+  for (int precision = 6; precision <= 17; ++precision) {
+    std::snprintf(text, sizeof(text), "%.*g", precision, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+bool ParseFlag(std::string text, bool* value) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (text == "true" || text == "on" || text == "yes" || text == "1") return *value = true, true;
+  if (text == "false" || text == "off" || text == "no" || text == "0") return *value = false, true;
+  return false;
 }
 
 // Strict parse: the whole text must be the number.
@@ -148,7 +164,7 @@ bool Parameter::DefinesMap() const {
 std::string Parameter::TypeName() const {
   switch (field.index()) {
     case 0:
-      return "int";
+      return flag ? "bool" : "int";
     case 1:
       return "double";
     default:
@@ -161,8 +177,12 @@ std::string Parameter::Get(const Options& options) const {
   return std::visit(
       [&](auto accessor) -> std::string {
         const auto& value = accessor(mutable_options);
-        if constexpr (std::is_same_v<std::decay_t<decltype(value)>, std::string>) {
+        using T = std::decay_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, std::string>) {
           return value;
+        } else if constexpr (std::is_same_v<T, int>) {
+          if (flag) return value != 0 ? "true" : "false";
+          return std::to_string(value);
         } else {
           return FormatDouble(value);
         }
@@ -171,6 +191,7 @@ std::string Parameter::Get(const Options& options) const {
 }
 
 std::string Parameter::RangeText() const {
+  if (flag) return "true|false";
   if (!choices.empty()) {
     std::string text;
     for (const auto& choice : choices) text += (text.empty() ? "" : "|") + choice;
@@ -188,7 +209,16 @@ std::string Parameter::Check(const Options& options) const {
     return "must be one of " + RangeText();
   }
   double number = 0;
-  ParseDouble(value, &number);
+  Options& mutable_options = const_cast<Options&>(options);  // accessors only read here
+  std::visit(
+      [&](auto accessor) {
+        const auto& field_value = accessor(mutable_options);
+        if constexpr (!std::is_same_v<std::decay_t<decltype(field_value)>, std::string>) {
+          number = static_cast<double>(field_value);
+        }
+      },
+      field);
+  if (flag && number != 0 && number != 1) return "must be 0 or 1 (false or true)";
   const bool above_min = min_exclusive ? number > min : number >= min;
   if (!above_min || number > max) return "must be in " + RangeText();
   return "";
@@ -204,6 +234,9 @@ void Parameter::Set(Options& options, const std::string& value) const {
         using T = std::decay_t<decltype(target)>;
         if constexpr (std::is_same_v<T, std::string>) {
           target = value;
+        } else if (bool on = false; flag) {
+          if (!ParseFlag(value, &on)) fail("not true or false (also on/off, yes/no, 1/0)");
+          target = on ? 1 : 0;
         } else {
           double number = 0;
           if (!ParseDouble(value, &number)) fail("not a number");

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "memloop/errors.h"
 
@@ -25,11 +27,11 @@ TEST(ParamsTest, Paper2011PresetIsThePapersAndValid) {
   const Options options = Options::Paper2011();
   EXPECT_NO_THROW(ValidateOptions(options));
   EXPECT_EQ(FindParameter("memory.stm_size")->Get(options), "25");
-  EXPECT_EQ(FindParameter("surf.upright")->Get(options), "0");
+  EXPECT_EQ(FindParameter("surf.upright")->Get(options), "false");
   EXPECT_EQ(FindParameter("filter.hypothesis_value")->Get(options), "neighbours");
   EXPECT_EQ(FindParameter("filter.likelihood")->Get(options), "similarity");
-  EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "0");
-  EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "0");
+  EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "false");
+  EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "false");
   EXPECT_EQ(FindParameter("memory.time_target")->Get(options), "1");
   EXPECT_EQ(FindParameter("verify.min_inliers")->Get(options), "0");
   EXPECT_EQ(FindParameter("memory.rehearsal_threshold")->Get(options), "0.2");
@@ -90,6 +92,77 @@ TEST(ParamsTest, BadAssignmentsAreRefusedWithTheReason) {
             std::string::npos);
   EXPECT_EQ(ErrorOf("memory.stm=3"), "Unknown parameter 'memory.stm' (see 'memloop params')");
   EXPECT_NE(ErrorOf("stm_size").find("expected NAME=VALUE"), std::string::npos);
+}
+
+// Values are kept at full precision (a map stores them as text and reads them back).
+TEST(ParamsTest, ValuesRoundTripAtFullPrecision) {
+  Options options;
+  SetParameter(options, "dictionary.seed=1234567");
+  SetParameter(options, "filter.loop_threshold=0.123456789012");
+  const Parameter* seed = FindParameter("dictionary.seed");
+  const Parameter* threshold = FindParameter("filter.loop_threshold");
+  EXPECT_EQ(seed->Get(options), "1234567");
+  EXPECT_EQ(threshold->Get(options), "0.123456789012");
+  EXPECT_EQ(FindParameter("memory.rehearsal_threshold")->Get(Options()), "0.2");
+  Options copy;
+  threshold->Set(copy, threshold->Get(options));
+  EXPECT_EQ(copy.filter.loop_threshold, options.filter.loop_threshold);
+}
+
+TEST(ParamsTest, SwitchesAreBooleans) {
+  const Parameter* upright = FindParameter("surf.upright");
+  EXPECT_EQ(upright->TypeName(), "bool");
+  EXPECT_EQ(upright->RangeText(), "true|false");
+  Options options;
+  for (const auto& [text, value] : std::vector<std::pair<std::string, int>>{
+           {"false", 0}, {"TRUE", 1}, {"off", 0}, {"yes", 1}, {"0", 0}, {"1", 1}}) {
+    SetParameter(options, "surf.upright=" + text);
+    EXPECT_EQ(options.features.surf_upright, value) << text;
+    EXPECT_EQ(upright->Get(options), value ? "true" : "false");
+  }
+  EXPECT_NE(ErrorOf("surf.upright=2").find("not true or false"), std::string::npos);
+  options.features.surf_upright = 5;  // through the C++ API
+  EXPECT_EQ(upright->Check(options), "must be 0 or 1 (false or true)");
+}
+
+TEST(ParamsTest, ParameterFileAppliesThroughTheRegistry) {
+  const std::string path = ::testing::TempDir() + "/memloop_params_test.ini";
+  std::ofstream(path) << "# a comment\n"
+                         "memory.stm_size = 25   ; trailing comment\n"
+                         "\n"
+                         "[filter]\n"
+                         "loop_threshold=0.3\n"
+                         "[surf]\n"
+                         "upright = false\n";
+  Options options;
+  ApplyParameterFile(options, path);
+  EXPECT_EQ(options.memory.stm_size, 25);
+  EXPECT_DOUBLE_EQ(options.filter.loop_threshold, 0.3);
+  EXPECT_EQ(options.features.surf_upright, 0);
+  const auto error_of = [&](const std::string& text) -> std::string {
+    std::ofstream(path) << text;
+    try {
+      ApplyParameterFile(options, path);
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(error_of("memory.stm_size = 20\nmemory.stm = 3\n"),
+            path + ": line 2: Unknown parameter 'memory.stm' (see 'memloop params')");
+  EXPECT_EQ(error_of("[filter\n"), path + ": line 1: a section must end with ']'");
+  EXPECT_EQ(error_of("stm_size 20\n"),
+            path + ": line 1: expected 'name = value', got 'stm_size 20'");
+  EXPECT_NE(error_of("[memory]\nstm_size = -4\n").find("line 2: Invalid parameter memory.stm_size"),
+            std::string::npos);
+  EXPECT_NE(error_of("").find("accepted"), std::string::npos);
+  std::remove(path.c_str());
+  try {
+    ApplyParameterFile(options, path + ".absent");
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), path + ".absent: cannot read the parameter file");
+  }
 }
 
 TEST(ParamsTest, ValidateFindsAnInvalidField) {

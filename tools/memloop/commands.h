@@ -16,9 +16,11 @@ void AddParamsCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 
-// Default options with every "--set NAME=VALUE" applied (throws ParameterError).
-// The preset ("default" or "paper2011"), then each NAME=VALUE in order.
-Options OptionsFromAssignments(const std::vector<std::string>& assignments,
-                               const std::string& preset = "default");
+// `options` (a preset's, or a map's) with the parameter file `config_path` ("" = none), then each
+// "--set NAME=VALUE" in order, applied: later settings win. Throws memloop::Error.
+Options WithSettings(Options options, const std::string& config_path,
+                     const std::vector<std::string>& assignments);
+// --config FILE on `command`.
+CLI::Option* AddConfigOption(CLI::App& command, std::string* path);
 
 }  // namespace memloop::cli

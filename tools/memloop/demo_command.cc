@@ -89,6 +89,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string database;
     std::string out;
     std::vector<std::string> assignments;
+    std::string config;
     std::string preset = "default";
     int seed = SyntheticRouteOptions().seed;
     std::string folder;
@@ -103,11 +104,13 @@ void AddDemoCommand(CLI::App& app) {
                    "Starting values: default (memloop's measured best) or paper2011 (the paper's "
                    "mechanisms as written); --set applies on top")
       ->capture_default_str();
+  AddConfigOption(*demo, &arguments->config);
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
   CLI::Option* demo_places = AddPlaceOptions(*demo, &arguments->places);
   demo->callback([arguments, demo_places] {
-    const Options options = OptionsFromAssignments(arguments->assignments, arguments->preset);
+    const Options options =
+        WithSettings(Preset(arguments->preset), arguments->config, arguments->assignments);
     if (demo_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       const PlaceSequence places(arguments->places);

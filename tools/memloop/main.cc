@@ -14,11 +14,18 @@
 
 namespace memloop::cli {
 
-Options OptionsFromAssignments(const std::vector<std::string>& assignments,
-                               const std::string& preset) {
-  Options options = Preset(preset);
+Options WithSettings(Options options, const std::string& config_path,
+                     const std::vector<std::string>& assignments) {
+  if (!config_path.empty()) ApplyParameterFile(options, config_path);
   for (const std::string& assignment : assignments) SetParameter(options, assignment);
   return options;
+}
+
+CLI::Option* AddConfigOption(CLI::App& command, std::string* path) {
+  return command.add_option(
+      "--config", *path,
+      "Parameter file: 'name = value' lines (or [section] then 'name = value'), # comments; "
+      "applied after --preset, before --set");
 }
 
 }  // namespace memloop::cli

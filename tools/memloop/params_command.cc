@@ -21,12 +21,21 @@ void PrintTable() {
   }
 }
 
+// The default as a JSON value of its type: true, 20, 0.2, "surf".
+nlohmann::json DefaultValue(const Parameter& p, const Options& defaults) {
+  const std::string text = p.Get(defaults);
+  if (p.flag) return text == "true";
+  if (p.TypeName() == "int") return std::stoll(text);
+  if (p.TypeName() == "double") return std::stod(text);
+  return text;
+}
+
 void PrintJson() {
   const Options defaults;
   nlohmann::json rows = nlohmann::json::array();
   for (const Parameter& p : Parameters()) {
     rows.push_back({{"name", p.key},
-                    {"default", p.Get(defaults)},
+                    {"default", DefaultValue(p, defaults)},
                     {"type", p.TypeName()},
                     {"unit", p.unit},
                     {"range", p.RangeText()},

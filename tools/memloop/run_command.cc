@@ -16,6 +16,7 @@ void AddRunCommand(CLI::App& app) {
     std::string database;
     std::string out;
     std::vector<std::string> assignments;
+    std::string config;
     std::string preset;
     bool resume = false;
   };
@@ -37,16 +38,15 @@ void AddRunCommand(CLI::App& app) {
       "--preset", arguments->preset,
       "Starting values: default (memloop's measured best) or paper2011 (the paper's mechanisms "
       "as written); --set applies on top");
+  AddConfigOption(*run, &arguments->config);
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
   preset->excludes(run->get_option("--resume"));
   run->callback([arguments] {
-    Options options = arguments->resume
-                          ? ReadMapOptions(arguments->database)
-                          : Preset(arguments->preset.empty() ? "default" : arguments->preset);
-    for (const std::string& assignment : arguments->assignments) {
-      SetParameter(options, assignment);
-    }
+    const Options options = WithSettings(
+        arguments->resume ? ReadMapOptions(arguments->database)
+                          : Preset(arguments->preset.empty() ? "default" : arguments->preset),
+        arguments->config, arguments->assignments);
     auto sequence = ImageSequence::Open(arguments->input);
     SessionOptions session;
     session.resume = arguments->resume;
