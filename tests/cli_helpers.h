@@ -72,6 +72,21 @@ inline int CsvRows(const std::string& path) {
   return std::max(0, lines - 1);
 }
 
+// Rows of a run CSV's text with a loop closure (a matched image, the 4th column).
+inline int RowsWithLoopClosure(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  int count = 0;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string cell;
+    for (int column = 0; column < 4; ++column) std::getline(row, cell, ',');
+    count += !cell.empty();
+  }
+  return count;
+}
+
 // Starts the tool with `arguments` (stdout and stderr to `log`, TMPDIR set to `temporary_folder`
 // if given); returns its pid.
 inline pid_t Start(const std::vector<std::string>& arguments, const std::string& log,

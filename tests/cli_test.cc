@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <sstream>
@@ -86,6 +87,36 @@ TEST_F(CliTest, ConfigFileGoesBetweenPresetAndSet) {
                        "memloop: error: " + config + ": line 2: Unknown parameter 'memory.stm'"))
       << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir_.File("bad.db")));
+}
+
+TEST_F(CliTest, InspectTellsWhatAMapHoldsWithoutChangingIt) {
+  const std::string db = dir_.File("inspected.db");
+  const std::string csv = dir_.File("inspected.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --db " + db + " --out " + csv +
+                    " --set memory.time_limit_ms=0 memory.max_wm_locations=30")
+                .exit_code,
+            0);
+  const std::string before = ReadFile(db);
+  const Outcome inspect = Memloop("inspect " + db + " --json");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+  const auto info = nlohmann::json::parse(inspect.output);
+  const std::string rows = ReadFile(csv);
+  const int images = static_cast<int>(std::count(rows.begin(), rows.end(), '\n')) - 1;
+  EXPECT_EQ(info["images"], images);
+  EXPECT_EQ(info["last_image"], images - 1);
+  EXPECT_EQ(info["format_version"], 3);
+  EXPECT_EQ(info["integrity"], "ok");
+  EXPECT_EQ(info["parameters"]["memory.max_wm_locations"], "30");
+  EXPECT_GT(info["ltm_locations"].get<int>(), 0);  // WM 30 made it transfer
+  EXPECT_EQ(info["loop_closures"].size(), static_cast<size_t>(RowsWithLoopClosure(rows)));
+  EXPECT_EQ(ReadFile(db), before);
+  const Outcome text = Memloop("inspect " + db);
+  EXPECT_TRUE(Contains(text.output, "loop closures: " + std::to_string(RowsWithLoopClosure(rows))))
+      << text.output;
+  const Outcome foreign = Memloop("inspect " + csv);
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_TRUE(Contains(foreign.output, "memloop: error: " + csv + ": not a memloop map"))
+      << foreign.output;
 }
 
 TEST_F(CliTest, RunWritesOneRowPerImageInNaturalOrder) {

@@ -462,6 +462,23 @@ std::string LtmDatabase::ReadInfo(const std::string& key) {
   return value;
 }
 
+std::vector<std::pair<std::string, std::string>> LtmDatabase::ReadInfoWithPrefix(
+    const std::string& prefix) {
+  auto& query = Cached("SELECT key, value FROM info WHERE substr(key, 1, ?)=? ORDER BY key");
+  query.Bind(1, static_cast<long long>(prefix.size())).Bind(2, prefix);
+  std::vector<std::pair<std::string, std::string>> rows;
+  while (query.Step()) rows.emplace_back(query.Text(0), query.Text(1));
+  query.Reset();
+  return rows;
+}
+
+long long LtmDatabase::QueryNumber(const std::string& sql) {
+  auto& query = Cached(sql);
+  const long long number = query.Step() ? query.Int(0) : 0;
+  query.Reset();
+  return number;
+}
+
 long long LtmDatabase::CountLocations() {
   auto& query = Cached("SELECT count(*) FROM locations");
   const long long count = query.Step() ? query.Int(0) : 0;

@@ -85,6 +85,10 @@ class LtmDatabase {
   std::vector<LocationId> ReadLinks(LocationId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
   std::string ReadInfo(const std::string& key);
+  // Every info row whose key starts with `prefix`, sorted by key.
+  std::vector<std::pair<std::string, std::string>> ReadInfoWithPrefix(const std::string& prefix);
+  // The single number `sql` (a SELECT count(*) ...) yields.
+  long long QueryNumber(const std::string& sql);
   // Every location id with rows in LTM, sorted.
   std::vector<LocationId> ReadLocationIds();
   // The checkpoint's rows: (id, blob) of memory locations and index points in point order.

@@ -1,7 +1,8 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
-// Subcommands: run, demo, generate, eval, report, params. Exit codes: 0 success; 1 an error of
-// input, map or output ("memloop: error: ..." names the file); 2 a command-line usage error;
-// 130 / 143 a run stopped by SIGINT / SIGTERM (results and map complete up to the last image).
+// Subcommands: run, demo, generate, eval, report, inspect, params. Exit codes: 0 success; 1 an
+// error of input, map or output ("memloop: error: ..." names the file); 2 a command-line usage
+// error; 130 / 143 a run stopped by SIGINT / SIGTERM (results and map complete up to the last
+// image).
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
   memloop::cli::AddParamsCommand(app);
   memloop::cli::AddEvalCommand(app);
   memloop::cli::AddReportCommand(app);
+  memloop::cli::AddInspectCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,39 @@
+// What a map file holds, read without changing it (`memloop inspect`).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "memloop/types.h"
+
+namespace memloop {
+
+struct MapLoopClosure {
+  ImageIndex query_image = kNoImage;
+  ImageIndex match_image = kNoImage;
+  LocationId query_location = kNoLocation;
+  LocationId match_location = kNoLocation;
+  double probability = 0;  // the hypothesis value that accepted it
+};
+
+struct MapInfo {
+  std::string path;
+  int format_version = 0;
+  std::string integrity;    // "ok": SQLite's quick_check found nothing wrong
+  long long images = 0;     // images the map's locations hold
+  long long locations = 0;  // in the Long-Term Memory (all of them after Detector::Close)
+  long long checkpoint_locations = 0;  // STM/WM of the last checkpoint (resume state)
+  long long words = 0;                 // words stored in LTM, with descriptors
+  long long neighbour_links = 0;
+  long long loop_closure_links = 0;
+  ImageIndex last_image = kNoImage;  // the last image a checkpoint holds (--resume goes on after)
+  std::vector<MapLoopClosure> loop_closures;
+  std::vector<std::pair<std::string, std::string>> parameters;  // name, value as stored
+};
+
+// Opens `path` read-only (its bytes never change). Throws DatabaseError naming the file when it
+// is not a memloop map, is of a newer format, or is damaged.
+MapInfo InspectMap(const std::string& path);
+
+}  // namespace memloop

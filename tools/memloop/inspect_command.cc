@@ -1,0 +1,81 @@
+// memloop inspect MAP.db [--json]: what a map holds, read without changing it.
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "memloop/map_info.h"
+
+namespace memloop::cli {
+namespace {
+
+nlohmann::json Json(const MapInfo& info) {
+  nlohmann::json loops = nlohmann::json::array();
+  for (const MapLoopClosure& loop : info.loop_closures) {
+    loops.push_back({{"query_image", loop.query_image},
+                     {"match_image", loop.match_image},
+                     {"query_location", loop.query_location},
+                     {"match_location", loop.match_location},
+                     {"probability", loop.probability}});
+  }
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const auto& [name, value] : info.parameters) parameters[name] = value;
+  return {{"path", info.path},
+          {"format_version", info.format_version},
+          {"integrity", info.integrity},
+          {"images", info.images},
+          {"last_image", info.last_image},
+          {"ltm_locations", info.locations},
+          {"checkpoint_locations", info.checkpoint_locations},
+          {"words", info.words},
+          {"neighbour_links", info.neighbour_links},
+          {"loop_closure_links", info.loop_closure_links},
+          {"loop_closures", loops},
+          {"parameters", parameters}};
+}
+
+void PrintText(const MapInfo& info) {
+  std::printf("map %s (format %d, integrity: %s)\n", info.path.c_str(), info.format_version,
+              info.integrity.c_str());
+  std::printf("images: %lld (last: %d)\n", info.images, info.last_image);
+  std::printf("locations: %lld in LTM, %lld in STM/WM at the last checkpoint\n", info.locations,
+              info.checkpoint_locations);
+  std::printf("words in LTM: %lld\n", info.words);
+  std::printf("links: %lld neighbour, %lld loop closure\n", info.neighbour_links,
+              info.loop_closure_links);
+  std::printf("loop closures: %zu\n", info.loop_closures.size());
+  for (const MapLoopClosure& loop : info.loop_closures) {
+    std::printf("  image %d -> image %d (location %d -> %d), p=%.3f\n", loop.query_image,
+                loop.match_image, loop.query_location, loop.match_location, loop.probability);
+  }
+  std::printf("parameters:\n");
+  for (const auto& [name, value] : info.parameters) {
+    std::printf("  %s = %s\n", name.c_str(), value.c_str());
+  }
+}
+
+}  // namespace
+
+void AddInspectCommand(CLI::App& app) {
+  struct Arguments {
+    std::string map;
+    bool json = false;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  CLI::App* inspect =
+      app.add_subcommand("inspect",
+                         "What a map file holds: images, locations, words, links, loop closures, "
+                         "parameters, format and integrity (the file is opened read-only)");
+  inspect->add_option("map", arguments->map, "Map database file (--db of a run)")->required();
+  inspect->add_flag("--json", arguments->json, "JSON object");
+  inspect->callback([arguments] {
+    const MapInfo info = InspectMap(arguments->map);
+    if (arguments->json) {
+      std::cout << Json(info).dump(2) << "\n";
+    } else {
+      PrintText(info);
+    }
+  });
+}
+
+}  // namespace memloop::cli
