@@ -160,6 +160,22 @@ TEST_F(CliTest, RunsOnAVideo) {
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_TRUE(Contains(run.output, "images: 30 processed, 0 skipped")) << run.output;
   EXPECT_TRUE(Contains(ReadFile(dir_.File("video.csv")), "\"frame 30\""));
+  // 10 frames per second sampled at 4 Hz: frames at 0, 250, 500, ... ms, i.e. the first frame at
+  // or after each: 1, 4, 6, 9, 11, ... (12 of 30), named by their number in the video.
+  const Outcome sampled = Memloop("run " + video + " --rate 4 --out " + dir_.File("sampled.csv"));
+  EXPECT_EQ(sampled.exit_code, 0) << sampled.output;
+  EXPECT_TRUE(Contains(sampled.output, "images: 12 processed")) << sampled.output;
+  const std::string rows = ReadFile(dir_.File("sampled.csv"));
+  for (const char* frame :
+       {"\"frame 1\"", "\"frame 4\"", "\"frame 6\"", "\"frame 9\"", "\"frame 29\""}) {
+    EXPECT_TRUE(Contains(rows, frame)) << frame << "\n" << rows;
+  }
+  EXPECT_FALSE(Contains(rows, "\"frame 2\""));
+  EXPECT_EQ(Memloop("run " + video + " --rate 0").exit_code, 2);  // not a positive rate
+  const Outcome camera = Memloop("run --camera 57");
+  EXPECT_EQ(camera.exit_code, 1);
+  EXPECT_TRUE(Contains(camera.output, "memloop: error: camera 57: cannot be opened"))
+      << camera.output;
 }
 
 TEST_F(CliTest, CorruptImageIsWarnedSkippedAndCounted) {

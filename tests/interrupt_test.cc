@@ -12,9 +12,12 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 #include <sstream>
 
 #include "cli_helpers.h"
+#include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "short_route.h"
 #include "temp_dir.h"
@@ -130,6 +133,26 @@ TEST_F(InterruptTest, SigintFinishesTheImageClosesTheMapAndResumes) {
       << resumed.output;
   EXPECT_EQ(WithoutTimes(ReadFile(dir_.File("run.csv"))),
             WithoutTimes(ReadFile(dir_.File("whole.csv"))));
+}
+
+// A video input stops the same way (a camera is read through the same loop).
+TEST_F(InterruptTest, SigintOnAVideo) {
+  const std::string video = dir_.File("route.avi");
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10,
+                           cv::Size(320, 240));
+    ASSERT_TRUE(writer.isOpened());
+    for (const std::string& name : ListFolder(images_)) {
+      writer.write(cv::imread(images_ + "/" + name));
+    }
+  }
+  const PipedRun run = RunAndSignal(dir_, {"run", video}, 40, SIGINT);
+  ASSERT_TRUE(WIFEXITED(run.status)) << run.log;
+  EXPECT_EQ(WEXITSTATUS(run.status), 130) << run.log;
+  EXPECT_EQ(run.csv.back(), '\n');
+  EXPECT_TRUE(Contains(
+      run.log, "interrupted by SIGINT after image " + std::to_string(RowImages(run.csv).back())))
+      << run.log;
 }
 
 TEST_F(InterruptTest, SigtermRemovesTheTemporaryMap) {

@@ -1,5 +1,5 @@
-// Images in acquisition order from a folder (natural numeric order: 2.jpg before 10.jpg) or a
-// video file.
+// Images in acquisition order from a folder (natural numeric order: 2.jpg before 10.jpg), a
+// video file or a live camera.
 #pragma once
 
 #include <memory>
@@ -16,13 +16,24 @@ struct Frame {
   std::string name;             // file name, or "frame N" of a video
   cv::Mat image;                // empty when unreadable
   std::string error;            // why it is unreadable ("" when readable)
+  int dropped = 0;  // camera frames lost since the previous frame (the caller was too slow)
+};
+
+struct SequenceOptions {
+  // Frames per second to take (the paper processes 1 Hz): a video is sampled by its timestamps, a
+  // camera read at that pace. 0 = every frame (a camera: as fast as the caller takes them).
+  double rate_hz = 0;
 };
 
 class ImageSequence {
  public:
   virtual ~ImageSequence() = default;
   // Throws InputError naming `path`: missing, an empty folder, a file that is not a video.
-  static std::unique_ptr<ImageSequence> Open(const std::string& path);
+  static std::unique_ptr<ImageSequence> Open(const std::string& path,
+                                             const SequenceOptions& options = {});
+  // Camera `device` (0 = the first) through OpenCV; runs until the caller stops. Throws
+  // InputError naming "camera N" when it cannot be opened.
+  static std::unique_ptr<ImageSequence> OpenCamera(int device, const SequenceOptions& options = {});
 
   // The next frame; false at the end. An unreadable image gives a frame with `error` set, so the
   // caller can warn, skip and count it.

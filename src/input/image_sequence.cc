@@ -7,8 +7,8 @@
 #include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/videoio.hpp>
 
+#include "input/capture_sequence.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -79,37 +79,6 @@ class FolderSequence : public ImageSequence {
   size_t next_ = 0;
 };
 
-class VideoSequence : public ImageSequence {
- public:
-  // FFmpeg only: it reads every common file format, and a file it cannot read gets one clear
-  // line here instead of GStreamer's warnings and critical messages.
-  explicit VideoSequence(const std::string& path) : capture_(path, cv::CAP_FFMPEG) {
-    if (!capture_.isOpened()) {
-      throw InputError(path,
-                       "cannot be opened as a video (not an image folder, nor a video "
-                       "file FFmpeg can decode)");
-    }
-    frame_count_ = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
-  }
-
-  bool Next(Frame* frame) override {
-    cv::Mat image;
-    if (!capture_.read(image) || image.empty()) return false;
-    frame->index = next_;
-    frame->name = "frame " + std::to_string(next_ + 1);
-    frame->image = image;
-    frame->error.clear();
-    ++next_;
-    return true;
-  }
-  int size() const override { return frame_count_ > 0 ? frame_count_ : -1; }
-
- private:
-  cv::VideoCapture capture_;
-  int frame_count_ = -1;
-  ImageIndex next_ = 0;
-};
-
 }  // namespace
 
 bool NaturalLess(const std::string& a, const std::string& b) {
@@ -154,16 +123,21 @@ std::vector<std::string> ListFolder(const std::string& folder) {
   return names;
 }
 
-std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path) {
+std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
+                                                   const SequenceOptions& options) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error || !fs::exists(status)) throw InputError(path, "no such file or folder");
   if (fs::is_directory(status)) {
+    if (options.rate_hz > 0) {
+      throw InputError(path,
+                       "a rate needs timestamps: a video or a camera, not a folder of images");
+    }
     std::vector<std::string> names = ListFolder(path);
     if (names.empty()) throw InputError(path, "the folder holds no image");
     return std::make_unique<FolderSequence>(path, std::move(names));
   }
-  return std::make_unique<VideoSequence>(path);
+  return OpenVideo(path, options.rate_hz);
 }
 
 }  // namespace memloop

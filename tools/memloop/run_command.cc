@@ -1,4 +1,5 @@
-// memloop run IMAGES_DIR|VIDEO_FILE [--db FILE [--resume]] [--set NAME=VALUE ...] [--out FILE.csv]
+// memloop run IMAGES_DIR|VIDEO_FILE|--camera N [--rate HZ] [--db FILE [--resume]]
+//             [--set NAME=VALUE ...] [--out FILE.csv]
 #include <iostream>
 
 #include "commands.h"
@@ -19,11 +20,22 @@ void AddRunCommand(CLI::App& app) {
     std::string config;
     std::string preset;
     bool resume = false;
+    int camera = -1;
+    double rate_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* run = app.add_subcommand(
       "run", "Detect loop closures in a folder of images (natural numeric order) or a video");
-  run->add_option("input", arguments->input, "Folder of images or video file")->required();
+  CLI::Option* input = run->add_option("input", arguments->input, "Folder of images or video file");
+  CLI::Option* camera =
+      run->add_option("--camera", arguments->camera,
+                      "Live camera number (0 = the first) instead of an input; stop with Ctrl-C")
+          ->check(CLI::NonNegativeNumber);
+  input->excludes(camera);
+  run->add_option("--rate", arguments->rate_hz,
+                  "Frames per second to take from a video (by timestamp) or a camera (the paper: "
+                  "1); default every frame")
+      ->check(CLI::PositiveNumber);
   CLI::Option* database = run->add_option(
       "--db", arguments->database,
       "Map database file (the Long-Term Memory): a new file, or with --resume an existing map; "
@@ -47,7 +59,14 @@ void AddRunCommand(CLI::App& app) {
         arguments->resume ? ReadMapOptions(arguments->database)
                           : Preset(arguments->preset.empty() ? "default" : arguments->preset),
         arguments->config, arguments->assignments);
-    auto sequence = ImageSequence::Open(arguments->input);
+    if (arguments->input.empty() && arguments->camera < 0) {
+      throw CLI::RequiredError("an input (folder or video) or --camera");
+    }
+    SequenceOptions sequence_options;
+    sequence_options.rate_hz = arguments->rate_hz;
+    auto sequence = arguments->camera >= 0
+                        ? ImageSequence::OpenCamera(arguments->camera, sequence_options)
+                        : ImageSequence::Open(arguments->input, sequence_options);
     SessionOptions session;
     session.resume = arguments->resume;
     const SessionReport report =
@@ -55,8 +74,9 @@ void AddRunCommand(CLI::App& app) {
     std::cout << Summary(report) << "\n";
     ThrowIfInterrupted(report, arguments->database);
     if (report.results.empty() && !arguments->resume) {
-      throw InputError(arguments->input,
-                       "no readable image (" + std::to_string(report.skipped) + " skipped)");
+      throw InputError(
+          arguments->camera >= 0 ? "camera " + std::to_string(arguments->camera) : arguments->input,
+          "no readable image (" + std::to_string(report.skipped) + " skipped)");
     }
   });
 }

@@ -108,6 +108,13 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   const InterruptWatch interrupt;
   Frame frame;
   while (interrupt.signal() == 0 && sequence.Next(&frame)) {
+    if (frame.dropped > 0 && report.dropped == 0) {
+      progress.Print(
+          "warning: frames are dropped: the detector is slower than the camera "
+          "(--rate HZ takes frames at a pace it keeps)",
+          stderr);
+    }
+    report.dropped += frame.dropped;
     if (!frame.error.empty()) {
       progress.Print(fmt::format("warning: skipping {}: {}", frame.name, frame.error), stderr);
       ++report.skipped;
@@ -155,12 +162,13 @@ std::string Summary(const SessionReport& report) {
   std::sort(times.begin(), times.end());
   const double median = times.empty() ? 0 : times[times.size() / 2];
   const double max = times.empty() ? 0 : times.back();
-  char text[320];
+  char text[400];
   std::snprintf(text, sizeof(text),
                 "images: %zu processed, %d skipped; loop closures: %d; iteration time: median "
                 "%.1f ms, max %.1f ms; max WM size: %d locations; max dictionary size: %d words",
                 report.results.size(), report.skipped, loop_closures, median, max, max_wm,
                 max_words);
+  if (report.dropped > 0) return text + fmt::format("; camera frames dropped: {}", report.dropped);
   return text;
 }
 

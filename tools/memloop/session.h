@@ -14,6 +14,7 @@ struct SessionReport {
   std::vector<std::string> names;
   int skipped = 0;         // unreadable images, warned and skipped
   int interrupted_by = 0;  // SIGINT or SIGTERM that ended the run early, 0 if none
+  long long dropped = 0;   // camera frames lost because the detector was slower
 };
 
 struct SessionOptions {

@@ -1,0 +1,14 @@
+// Videos and cameras, through OpenCV's VideoCapture.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "memloop/image_sequence.h"
+
+namespace memloop {
+
+// `rate_hz` > 0: the frames whose timestamps first reach each multiple of 1 / rate_hz.
+std::unique_ptr<ImageSequence> OpenVideo(const std::string& path, double rate_hz);
+
+}  // namespace memloop
