@@ -1,0 +1,101 @@
+"""The Python module, as a user imports it (run by ctest: PYTHONPATH=build/python)."""
+import csv
+import os
+import subprocess
+
+import cv2
+import numpy as np
+import pytest
+
+import memloop
+
+CLI = os.environ.get("MEMLOOP_CLI", "memloop")
+NO_TIME_LIMIT = {"memory.time_limit_ms": 0, "memory.max_wm_locations": 30}
+
+
+@pytest.fixture(scope="module")
+def route(tmp_path_factory):
+    """The built-in generated route, written by the CLI, and the CLI's own run on it."""
+    folder = tmp_path_factory.mktemp("route")
+    subprocess.run([CLI, "generate", str(folder)], check=True, capture_output=True)
+    images = folder / "images"
+    names = sorted(os.listdir(images), key=lambda name: int(name.split(".")[0]))
+    out = folder / "cli.csv"
+    settings = [f"{name}={value}" for name, value in NO_TIME_LIMIT.items()]
+    subprocess.run([CLI, "run", str(images), "--out", str(out), "--set", *settings], check=True,
+                   capture_output=True)
+    with open(out, newline="") as rows:
+        cli_loops = [(int(row["image"]), int(row["matched_image"]))
+                     for row in csv.DictReader(rows) if row["matched_image"]]
+    return [str(images / name) for name in names], cli_loops
+
+
+def test_parameters_list_the_registry():
+    rows = {row["name"]: row for row in memloop.parameters()}
+    assert rows["memory.stm_size"]["type"] == "int"
+    assert rows["surf.upright"]["type"] == "bool"
+    assert isinstance(rows["surf.upright"]["default"], bool)
+    assert rows["filter.loop_threshold"]["range"] == "[0, 1]"
+
+
+def test_options_through_the_registry():
+    options = memloop.Options({"memory.stm_size": 12, "surf.upright": False})
+    assert options["memory.stm_size"] == 12
+    assert options["surf.upright"] is False
+    options["dictionary.seed"] = 1234567
+    assert options["dictionary.seed"] == 1234567
+    assert memloop.Options(preset="paper2011")["filter.hypothesis_value"] == "neighbours"
+    with pytest.raises(memloop.ParameterError, match="Unknown parameter 'memory.stm'"):
+        options["memory.stm"] = 3
+    with pytest.raises(memloop.ParameterError, match=r"must be in \[0, 1\]"):
+        memloop.Options({"filter.loop_threshold": 7})
+
+
+def test_same_loop_closures_as_the_cli(route, tmp_path):
+    paths, cli_loops = route
+    assert len(cli_loops) > 20
+    loops = []
+    with memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "map.db")) as detector:
+        for index, path in enumerate(paths):
+            image = cv2.imread(path)  # BGR, as a user's program reads it
+            result = detector.process(image, index)
+            assert result.image_index == index
+            if result.has_loop_closure:
+                loops.append((index, result.loop_closure_images[0]))
+    assert loops == cli_loops
+    assert memloop.read_map_options(str(tmp_path / "map.db"))["memory.max_wm_locations"] == 30
+
+
+def test_grey_images_and_results(tmp_path):
+    image = np.random.default_rng(3).integers(0, 256, (240, 320), dtype=np.uint8)
+    detector = memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "grey.db"))
+    result = detector.process(cv2.GaussianBlur(image, (5, 5), 1.5), 0)
+    assert result.location_id == 1 and not result.has_loop_closure
+    assert result.feature_count > 0 and result.times.total_ms > 0
+    assert "image 0 -> location 1" in repr(result)
+    detector.close()
+    with pytest.raises(memloop.Error, match="the detector is closed"):
+        detector.process(image, 1)
+
+
+def test_errors_carry_the_messages(tmp_path):
+    path = tmp_path / "notes.db"
+    path.write_text("my notes")
+    with pytest.raises(memloop.DatabaseError, match="notes.db: not a memloop map"):
+        memloop.Detector(memloop.Options(), str(path))
+    assert path.read_text() == "my notes"
+    with memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "x.db")) as detector:
+        with pytest.raises(memloop.InputError, match="must be a uint8 numpy array"):
+            detector.process(np.zeros((8, 8), dtype=np.float32), 0)
+        with pytest.raises(memloop.InputError, match="H x W"):
+            detector.process(np.zeros((8, 8, 4), dtype=np.uint8), 0)
+
+
+def test_example_script_runs(route, tmp_path):
+    paths, cli_loops = route
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "02_python.py")
+    run = subprocess.run([os.sys.executable, script, os.path.dirname(paths[0]),
+                          str(tmp_path / "example.db")], capture_output=True, text=True,
+                         check=True)
+    assert "loop closure with image" in run.stdout
+    assert f"{len(paths)} images" in run.stdout
