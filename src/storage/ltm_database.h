@@ -10,17 +10,13 @@
 #include <vector>
 
 #include "detector/location.h"
+#include "memloop/map_info.h"
 #include "storage/sqlite_statement.h"
 
 namespace memloop {
 
-struct LoopClosureRecord {
-  ImageIndex query_image = kNoImage;
-  ImageIndex match_image = kNoImage;
-  LocationId query_location = kNoLocation;
-  LocationId match_location = kNoLocation;
-  double probability = 0;
-};
+// An accepted loop closure as the map stores it (the public MapLoopClosure).
+using LoopClosureRecord = MapLoopClosure;
 
 // One resume checkpoint (checkpoint.h) as rows: the STM/WM locations and the dictionary's index
 // points that changed since the previous checkpoint, and the detector's state blobs.

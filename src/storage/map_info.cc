@@ -39,10 +39,7 @@ MapInfo InspectMap(const std::string& path) {
     last = std::max<ImageIndex>(last, counted);
   }
   info.last_image = last;
-  for (const LoopClosureRecord& record : database.ReadLoopClosures()) {
-    info.loop_closures.push_back({record.query_image, record.match_image, record.query_location,
-                                  record.match_location, record.probability});
-  }
+  info.loop_closures = database.ReadLoopClosures();
   for (auto& [key, value] : database.ReadInfoWithPrefix("param.")) {
     info.parameters.emplace_back(key.substr(6), value);
   }
