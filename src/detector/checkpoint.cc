@@ -302,18 +302,19 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
   }
 }
 
+void ReadCounters(const std::vector<unsigned char>& bytes, ResumeState& state) {
+  ByteReader reader(bytes, "the checkpoint's counters");
+  state.counters.last_image = reader.Get<int32_t>();
+  state.counters.images_processed = reader.Get<int64_t>();
+  state.counters.newest_location = reader.Get<int32_t>();
+  state.next_location_id = reader.Get<int32_t>();
+  state.next_word_id = reader.Get<int32_t>();
+  reader.ExpectEnd();
+}
+
 ResumeState ReadState(LtmDatabase& database, const Dictionary& dictionary) {
   ResumeState state;
-  {
-    const std::vector<unsigned char> bytes = RequiredState(database, kCounters);
-    ByteReader reader(bytes, "the checkpoint's counters");
-    state.counters.last_image = reader.Get<int32_t>();
-    state.counters.images_processed = reader.Get<int64_t>();
-    state.counters.newest_location = reader.Get<int32_t>();
-    state.next_location_id = reader.Get<int32_t>();
-    state.next_word_id = reader.Get<int32_t>();
-    reader.ExpectEnd();
-  }
+  ReadCounters(RequiredState(database, kCounters), state);
   {
     const std::vector<unsigned char> bytes = RequiredState(database, kStm);
     ByteReader reader(bytes, "the checkpoint's STM");
@@ -384,6 +385,18 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) 
     throw DatabaseError(database.path(),
                         std::string("cannot resume: the map is damaged (") + error.what() + ")");
   }
+}
+
+std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database) {
+  const std::optional<std::vector<unsigned char>> bytes = database.ReadState(kCounters);
+  if (!bytes) return std::nullopt;
+  ResumeState state;
+  try {
+    ReadCounters(*bytes, state);
+  } catch (const Error& error) {
+    throw DatabaseError(database.path(), std::string("the map is damaged (") + error.what() + ")");
+  }
+  return state.counters;
 }
 
 }  // namespace memloop

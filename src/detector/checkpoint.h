@@ -9,6 +9,7 @@
 
 #include <deque>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -68,6 +69,10 @@ class CheckpointWriter {
 // Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError
 // naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged.
 ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
+
+// The counters of the map's last checkpoint alone (no dictionary needed); none when it holds no
+// checkpoint. Throws DatabaseError naming the file when they are damaged.
+std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database);
 
 // The location as a checkpoint row, and back (throws Error when the bytes are not one).
 std::vector<unsigned char> EncodeLocation(const Location& location);

@@ -201,8 +201,8 @@ std::string Parameter::RangeText() const {
 }
 
 std::string Parameter::Check(const Options& options) const {
-  const std::string value = Get(options);
   if (!choices.empty()) {
+    const std::string value = Get(options);
     for (const auto& choice : choices) {
       if (value == choice) return "";
     }

@@ -479,18 +479,8 @@ long long LtmDatabase::QueryNumber(const std::string& sql) {
   return number;
 }
 
-long long LtmDatabase::CountLocations() {
-  auto& query = Cached("SELECT count(*) FROM locations");
-  const long long count = query.Step() ? query.Int(0) : 0;
-  query.Reset();
-  return count;
-}
+long long LtmDatabase::CountLocations() { return QueryNumber("SELECT count(*) FROM locations"); }
 
-long long LtmDatabase::CountWords() {
-  auto& query = Cached("SELECT count(*) FROM words");
-  const long long count = query.Step() ? query.Int(0) : 0;
-  query.Reset();
-  return count;
-}
+long long LtmDatabase::CountWords() { return QueryNumber("SELECT count(*) FROM words"); }
 
 }  // namespace memloop

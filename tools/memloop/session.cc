@@ -44,6 +44,12 @@ void RemoveOrphanedTemporaryMaps(const fs::path& folder) {
   }
 }
 
+// A map file and its WAL files.
+void RemoveMap(const std::string& path) {
+  std::error_code ignored;
+  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
+}
+
 // A map file in the temporary folder, removed (with its WAL files) when this goes: at the end,
 // on an error and after SIGINT/SIGTERM; those of killed runs go at the next run's start.
 class TemporaryDatabase {
@@ -63,17 +69,7 @@ class TemporaryDatabase {
   std::string path_;
 };
 
-std::unique_ptr<Detector> OpenDetector(const Options& options, const std::string& path,
-                                       bool resume) {
-  return std::make_unique<Detector>(options, path, resume ? MapMode::kResume : MapMode::kNew);
-}
-
 }  // namespace
-
-void RemoveMap(const std::string& path) {
-  std::error_code ignored;
-  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
-}
 
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
@@ -83,7 +79,8 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
   const std::string& map_path = temporary ? temporary->path() : database_path;
-  std::unique_ptr<Detector> detector = OpenDetector(options, map_path, session.resume);
+  auto detector = std::make_unique<Detector>(options, map_path,
+                                             session.resume ? MapMode::kResume : MapMode::kNew);
   std::unique_ptr<RunCsvWriter> csv;
   if (session.resume) {
     std::cout << "resuming " << database_path << " after image " << detector->last_image() << " ("

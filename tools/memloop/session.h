@@ -35,9 +35,6 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
 // After the summary is printed: throws Interrupted when a signal ended the run.
 void ThrowIfInterrupted(const SessionReport& report, const std::string& database_path);
 
-// A map file and its WAL files.
-void RemoveMap(const std::string& path);
-
 // "images: 130 processed, 0 skipped; loop closures: 52; iteration time: median 12.1 ms, max ..."
 std::string Summary(const SessionReport& report);
 

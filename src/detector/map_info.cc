@@ -1,8 +1,6 @@
 #include "memloop/map_info.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <cstring>
 
 #include "detector/checkpoint.h"
 #include "storage/ltm_database.h"
@@ -32,11 +30,8 @@ MapInfo InspectMap(const std::string& path) {
     info.images += static_cast<long long>(location.images.size());
     for (ImageIndex image : location.images) last = std::max(last, image);
   }
-  // The checkpoint's counters start with the last image processed (checkpoint.cc).
-  if (const auto counters = database.ReadState("counters"); counters && counters->size() >= 4) {
-    int32_t counted = 0;
-    std::memcpy(&counted, counters->data(), sizeof(counted));
-    last = std::max<ImageIndex>(last, counted);
+  if (const auto counters = ReadCheckpointCounters(database)) {
+    last = std::max(last, counters->last_image);
   }
   info.last_image = last;
   info.loop_closures = database.ReadLoopClosures();
