@@ -179,7 +179,9 @@ PYBIND11_MODULE(memloop, m) {
   py::class_<PyDetector>(m, "Detector")
       .def(py::init<const Options&, const std::string&, bool>(), py::arg("options"),
            py::arg("db_path"), py::arg("resume") = false,
-           "A new map at db_path (or, resume=True, an existing one from its last checkpoint)")
+           "A new map at db_path (or, resume=True, an existing one from its last checkpoint; "
+           "with options['memory.localization'] = True, an existing map localized against, "
+           "read-only)")
       .def("process", &PyDetector::Process, py::arg("image"), py::arg("index") = -1,
            "One image (numpy uint8, grey or BGR as cv2 gives); returns a Result")
       .def("close", &PyDetector::Close, "Stores STM and WM too: the map is then complete")

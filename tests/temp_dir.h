@@ -2,6 +2,8 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -25,5 +27,12 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// A file's bytes; "" for a folder, a device or a missing file.
+inline std::string ReadBytes(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return "";
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 }  // namespace memloop::testing

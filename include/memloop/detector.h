@@ -32,6 +32,10 @@ class Detector {
   // define the map (ParameterError naming each; see DefinesMap in params.h). A refused file is
   // never modified. Resuming restores STM, WM, the dictionary and the filter as they were at the
   // last checkpoint; images after it are to be given again (last_image() says which).
+  // With options.memory.localization, the map at `database_path` must exist, whatever `mode`: it
+  // is opened read-only from its last checkpoint, images are matched against it (loop_closure_id
+  // names the map's location; location_id is kNoLocation, the image makes none) and nothing is
+  // written, Close() included. Retrieval and transfer work as in mapping, in memory.
   Detector(const Options& options, const std::string& database_path, MapMode mode = MapMode::kNew);
   ~Detector();
   Detector(const Detector&) = delete;

@@ -86,6 +86,10 @@ struct MemoryOptions {
   // A resume checkpoint every this many images (checkpoint.h). A crash loses at most
   // 2 * checkpoint_interval images: the last committed checkpoint is at most one behind.
   int checkpoint_interval = 1;
+  // 1: localization (as RTAB-Map's): images are matched against an existing map, which they do
+  // not join. The map file is opened read-only; retrieval and transfer still move locations
+  // between WM and LTM, in memory only. 0: mapping, the paper.
+  int localization = 0;
 };
 
 struct FilterOptions {

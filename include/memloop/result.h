@@ -27,7 +27,8 @@ struct Result {
   // False until Process() has run (a default Result says so).
   bool processed = false;
   ImageIndex image_index = kNoImage;
-  // Location now standing for the image (after Rehearsal it may hold older images too).
+  // Location now standing for the image (after Rehearsal it may hold older images too);
+  // kNoLocation in localization (memory.localization), where the image joins no location.
   LocationId location_id = kNoLocation;
   // STM location merged into this one by Rehearsal, kNoLocation when none.
   LocationId rehearsal_merged_id = kNoLocation;
@@ -65,7 +66,8 @@ struct Result {
   StageTimes times;
 
   bool HasLoopClosure() const { return loop_closure_id != kNoLocation; }
-  // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62".
+  // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62"; in
+  // localization "image 41: localized at location 3 (image 2), p=0.62".
   std::string Brief() const;
 };
 

@@ -61,8 +61,10 @@ Options OptionsOf(LtmDatabase& database) {
   return options;
 }
 
-// Resuming with other values of the parameters that define the map is refused, naming each.
+// Resuming (or localizing) with other values of the parameters that define the map is refused,
+// naming each.
 void CheckMapParameters(LtmDatabase& database, const Options& options) {
+  const char* use = options.memory.localization ? "localize against it" : "resume";
   const Options map_options = OptionsOf(database);
   std::string differences;
   for (const Parameter& parameter : Parameters()) {
@@ -74,10 +76,9 @@ void CheckMapParameters(LtmDatabase& database, const Options& options) {
                    ", given: " + value + ")";
   }
   if (!differences.empty()) {
-    throw ParameterError("", database.path() +
-                                 ": cannot resume with other values of parameters "
-                                 "that define the map: " +
-                                 differences);
+    throw ParameterError(
+        "", database.path() + ": cannot " + use +
+                " with other values of parameters that define the map: " + differences);
   }
 }
 
@@ -109,14 +110,18 @@ class Detector::Impl {
  public:
   Impl(const Options& options, const std::string& database_path, MapMode mode)
       : options_(Validated(options)),
+        localizing_(options_.memory.localization != 0),
         selection_options_(SelectionOptions(options_)),
         extractor_(FeatureExtractor::Create(options.features)),
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
-        ltm_(database_path,
-             mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate),
+        ltm_(database_path, FileMode(mode)),
         editor_(memory_, ltm_, filter_) {
-    if (mode == MapMode::kResume) Resume(database_path);  // nothing is written before it passes
+    if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before
+    if (localizing_) {
+      MoveStmToWm();
+      return;
+    }
     for (const Parameter& parameter : Parameters()) {
       ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
     }
@@ -129,7 +134,7 @@ class Detector::Impl {
     ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
     try {
-      return Iterate(gray, image_index);
+      return localizing_ ? Localize(gray, image_index) : Iterate(gray, image_index);
     } catch (...) {
       failed_ = true;  // memory is half-updated: the file stays at its last checkpoint
       throw;
@@ -137,7 +142,7 @@ class Detector::Impl {
   }
 
   void Flush() {
-    if (!failed_ && !closed_) WriteCheckpoint();
+    if (!failed_ && !closed_ && !localizing_) WriteCheckpoint();
     ltm_.Flush();
   }
   ImageIndex last_image() const { return counters_.last_image; }
@@ -152,7 +157,7 @@ class Detector::Impl {
   void Close() {
     if (closed_) return;
     closed_ = true;
-    if (failed_) return;
+    if (failed_ || localizing_) return;
     std::set<WordId> words;
     for (const auto& [id, location] : memory_.locations()) {
       ltm_.Store(location);
@@ -169,6 +174,42 @@ class Detector::Impl {
   // The paper's Fig. 1, one call per box, then the resume checkpoint.
   Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
     Stopwatch iteration;
+    Result result = StartIteration(image_index);
+    const LocationId t = CreateLocation(gray, result);      // III-A
+    Rehearse(t, result);                                    // III-B, eq. 1
+    memory_.MoveStmOverflowToWm(options_.memory.stm_size);  // STM -> WM
+    const Signature& z_t = memory_.at(t).signature;
+    const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Hypothesis hypothesis =
+        SelectLoopClosure(z_t, likelihood, neighbourhoods, result);  // III-D
+    CloseLoop(t, hypothesis, neighbourhoods, result);                // III-D
+    RetrieveNeighbours(hypothesis, result);                          // III-E
+    TransferToLtm(iteration, hypothesis, result);                    // III-F
+    Checkpoint(result);
+    Summarize(t, z_t, iteration, result);
+    return result;
+  }
+
+  // Localization (memory.localization): Fig. 1 without the boxes that change the map. The image
+  // is matched against WM but does not join the map: no location, word, link or weight is made,
+  // nothing is written. Retrieval and transfer still move locations between WM and LTM (III-E,
+  // F), in memory only: LTM is read-only and keeps what leaves WM in its overlay.
+  Result Localize(const cv::Mat& gray, ImageIndex image_index) {
+    Stopwatch iteration;
+    Result result = StartIteration(image_index);
+    const Signature z_t = MatchImage(gray, result);                          // III-A
+    const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
+    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Hypothesis hypothesis =
+        SelectLoopClosure(z_t, likelihood, neighbourhoods, result);  // III-D
+    RetrieveNeighbours(hypothesis, result);                          // III-E
+    TransferToLtm(iteration, hypothesis, result);                    // III-F
+    Summarize(kNoLocation, z_t, iteration, result);
+    return result;
+  }
+
+  Result StartIteration(ImageIndex image_index) {
     Result result;
     result.processed = true;
     result.image_index = image_index == kNoImage ? counters_.images_processed : image_index;
@@ -176,25 +217,27 @@ class Detector::Impl {
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
-
-    const LocationId t = CreateLocation(gray, result);                       // III-A
-    Rehearse(t, result);                                                     // III-B, eq. 1
-    memory_.MoveStmOverflowToWm(options_.memory.stm_size);                   // STM -> WM
-    const Likelihood likelihood = ComputeObservation(t, result);             // eq. 3, 4
-    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
-    const Hypothesis hypothesis =
-        SelectLoopClosure(t, likelihood, neighbourhoods, result);  // III-D
-    RetrieveNeighbours(hypothesis, result);                        // III-E
-    TransferToLtm(iteration, hypothesis, result);                  // III-F
-    Checkpoint(result);
-    Summarize(t, iteration, result);
     return result;
+  }
+
+  LtmDatabase::Mode FileMode(MapMode mode) const {
+    if (localizing_) return LtmDatabase::Mode::kRead;  // whatever `mode`: the map must exist
+    return mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate;
+  }
+
+  // Localization: the map's STM is its newest places, as much part of it as WM's; with no new
+  // image to keep out of detection, they join WM (in memory only).
+  void MoveStmToWm() {
+    const std::deque<LocationId> stm = memory_.stm();
+    memory_.MoveStmOverflowToWm(0);
+    for (LocationId id : stm) filter_.Add(id);
   }
 
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
   // checking that the map was made with the same map-defining parameters.
   void Resume(const std::string& path) {
-    LtmDatabase database(path, LtmDatabase::Mode::kAttach);  // ltm_ checked the file
+    // ltm_ checked the file
+    LtmDatabase database(path, localizing_ ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kAttach);
     CheckMapParameters(database, options_);
     ResumeState state = ReadCheckpoint(database, memory_.dictionary());
     try {
@@ -245,6 +288,14 @@ class Detector::Impl {
     memory_.ClearChanged();
   }
 
+  // Localization's III-A: the image's features as words of the dictionary, none created.
+  Signature MatchImage(const cv::Mat& gray, Result& result) {
+    ScopedTimer timer(&result.times.signature_ms);
+    const Features features = extractor_->Extract(gray);
+    result.feature_count = static_cast<int>(features.keypoints.size());
+    return MatchSignature(features, memory_.dictionary());
+  }
+
   LocationId CreateLocation(const cv::Mat& gray, Result& result) {
     ScopedTimer timer(&result.times.signature_ms);
     const Features features = extractor_->Extract(gray);
@@ -264,9 +315,8 @@ class Detector::Impl {
     result.rehearsal_merged_id = outcome.merged_id;
   }
 
-  Likelihood ComputeObservation(LocationId t, Result& result) {
+  Likelihood ComputeObservation(const Signature& z_t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    const Signature& z_t = memory_.at(t).signature;
     return ComputeLikelihood(options_.filter.likelihood == "tfidf"
                                  ? ScoreWorkingMemoryTfIdf(z_t, memory_)
                                  : ScoreWorkingMemory(z_t, memory_),
@@ -283,21 +333,32 @@ class Detector::Impl {
     return neighbourhoods;
   }
 
-  Hypothesis SelectLoopClosure(LocationId t, const Likelihood& likelihood,
+  Hypothesis SelectLoopClosure(const Signature& z_t, const Likelihood& likelihood,
                                const Neighbourhoods& neighbourhoods, Result& result) {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
     RequireSupport(likelihood, hypothesis);
-    Verify(t, hypothesis, result);
+    Verify(z_t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
     if (hypothesis.id != kNoLocation) result.hypothesis_images = memory_.at(hypothesis.id).images;
     result.virtual_place_probability = filter_.virtual_place();
+    if (hypothesis.accepted) {
+      result.loop_closure_id = hypothesis.id;
+      result.loop_closure_images = result.hypothesis_images;
+    }
+    return hypothesis;
+  }
+
+  // III-D in the map: past matches out of the highest hypothesis' neighbourhood are absorbed,
+  // and an accepted L_i links to L_t.
+  void CloseLoop(LocationId t, const Hypothesis& hypothesis, const Neighbourhoods& neighbourhoods,
+                 Result& result) {
+    ScopedTimer timer(&result.times.selection_ms);
     AbsorbPastMatches(hypothesis, neighbourhoods);
     if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);
-    return hypothesis;
   }
 
   // A loop closure says that the image matches L_i: with filter.require_support, the image's own
@@ -312,10 +373,10 @@ class Detector::Impl {
 
   // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
   // T_loop over what verification lets through.
-  void Verify(LocationId t, Hypothesis& hypothesis, Result& result) {
+  void Verify(const Signature& z_t, Hypothesis& hypothesis, Result& result) {
     if (options_.verification.min_inliers == 0 || !hypothesis.eligible) return;
-    const EpipolarCheck check = CheckEpipolarGeometry(
-        memory_.at(t).signature, memory_.at(hypothesis.id).signature, options_.verification);
+    const EpipolarCheck check =
+        CheckEpipolarGeometry(z_t, memory_.at(hypothesis.id).signature, options_.verification);
     result.hypothesis_inliers = check.inliers;
     if (!check.passed) hypothesis.Refuse();
   }
@@ -326,8 +387,7 @@ class Detector::Impl {
     const LocationId i = hypothesis.id;
     memory_.at(t).weight += memory_.at(i).weight + 1;
     editor_.LinkLoopClosure(t, i);
-    result.loop_closure_id = i;
-    result.loop_closure_images = memory_.at(i).images;
+    result.loop_closure_images = memory_.at(i).images;  // with the past matches it absorbed
     ltm_.RecordLoopClosure(
         {result.image_index, memory_.at(i).images.front(), t, i, hypothesis.value});
   }
@@ -382,9 +442,11 @@ class Detector::Impl {
     return kept;
   }
 
-  void Summarize(LocationId t, const Stopwatch& iteration, Result& result) const {
+  // `t` is kNoLocation when localizing: the image made no location.
+  void Summarize(LocationId t, const Signature& z_t, const Stopwatch& iteration,
+                 Result& result) const {
     result.location_id = t;
-    result.word_count = memory_.at(t).signature.size();
+    result.word_count = z_t.size();
     result.stm_size = static_cast<int>(memory_.stm().size());
     result.wm_size = static_cast<int>(memory_.working_memory().size());
     result.ltm_size = static_cast<int>(ltm_.size());
@@ -393,6 +455,7 @@ class Detector::Impl {
   }
 
   Options options_;
+  bool localizing_;                  // memory.localization: the map is read, never changed
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   static constexpr int kMaxSkippedCheckpoints = 8;
   int skipped_checkpoints_ = 0;

@@ -96,6 +96,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
     Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Flag()
         .Help("true: the highest hypothesis' neighbourhood leaves WM after every other location (false = by weight and age, the paper)"),
+    Param("memory.localization", MEMLOOP_FIELD(memory.localization)).Flag()
+        .Help("true: match images against an existing map without extending or modifying it (its file is opened read-only); false = mapping"),
     Param("filter.loop_threshold", MEMLOOP_FIELD(filter.loop_threshold)).Range(0, 1)
         .Symbol("T_loop").Help("Hypothesis value (filter.hypothesis_value) above which a loop closure is accepted"),
     Param("filter.min_hypotheses", MEMLOOP_FIELD(filter.min_hypotheses)).Unit("locations")

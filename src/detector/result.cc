@@ -7,7 +7,17 @@ namespace memloop {
 std::string Result::Brief() const {
   if (!processed) return "Detector::Process was not called.";
   char text[256];
-  if (HasLoopClosure()) {
+  if (location_id == kNoLocation) {  // localization: the image made no location
+    if (HasLoopClosure()) {
+      std::snprintf(text, sizeof(text), "image %d: localized at location %d (image %d), p=%.3f",
+                    image_index, loop_closure_id,
+                    loop_closure_images.empty() ? kNoImage : loop_closure_images.front(),
+                    hypothesis_value);
+    } else {
+      std::snprintf(text, sizeof(text), "image %d: not localized (highest hypothesis %d, p=%.3f)",
+                    image_index, hypothesis_id, hypothesis_value);
+    }
+  } else if (HasLoopClosure()) {
     std::snprintf(text, sizeof(text),
                   "image %d -> location %d: loop closure with location %d (image %d), p=%.3f",
                   image_index, location_id, loop_closure_id,

@@ -36,12 +36,16 @@ size_t BytesOf(const Location& location) {
 
 LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
                                const LtmOptions& options)
-    : path_(path), reader_(path, mode), max_pending_bytes_(options.max_pending_bytes) {
+    : path_(path),
+      read_only_(mode == LtmDatabase::Mode::kRead),
+      reader_(path, mode),
+      max_pending_bytes_(options.max_pending_bytes) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
-  writer_ = std::thread([this, options] { WriterLoop(options); });
+  if (!read_only_) writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
 LongTermMemory::~LongTermMemory() {
+  if (read_only_) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
@@ -98,6 +102,11 @@ void LongTermMemory::Enqueue(Operation operation) {
     bytes += word->descriptor.size();
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
     bytes += checkpoint->bytes();
+  }
+  if (read_only_) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!std::holds_alternative<CheckpointData>(operation)) Overlay(next_sequence_++, operation);
+    return;
   }
   {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -241,6 +250,7 @@ bool LongTermMemory::CheckpointInFlight() const {
 }
 
 void LongTermMemory::Flush() {
+  if (read_only_) return;
   std::unique_lock<std::mutex> lock(mutex_);
   WaitForWriterLocked(lock, [this] { return committed_sequence_ >= CommittableSequenceLocked(); });
 }

@@ -33,7 +33,10 @@ struct LtmOptions {
 class LongTermMemory {
  public:
   // Opens the map at `path` (see LtmDatabase for what is refused in each mode). An opened map's
-  // locations are all in LTM until Exclude() says otherwise.
+  // locations are all in LTM until Exclude() says otherwise. Mode::kRead (localization): nothing
+  // is ever written and there is no writer thread; writes are kept in the overlay only, so reads
+  // answer as if they had been written (the overlay holds at most one copy of each location and
+  // word of the map), and Checkpoint and Flush do nothing.
   LongTermMemory(const std::string& path, LtmDatabase::Mode mode = LtmDatabase::Mode::kCreate,
                  const LtmOptions& options = {});
   // Commits everything queued, then stops the writer.
@@ -139,6 +142,7 @@ class LongTermMemory {
   LocationId Redirected(LocationId id) const;
 
   std::string path_;
+  bool read_only_;
   LtmDatabase reader_;
   std::set<LocationId> ids_;  // locations now in LTM
 

@@ -43,6 +43,37 @@ TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
   EXPECT_FALSE(ltm.Retrieve(5).has_value());
 }
 
+// Localization's LTM: what leaves WM is kept in memory, read back as if written; the file stays.
+TEST(LongTermMemoryTest, ReadOnlyKeepsWritesInMemory) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LongTermMemory ltm(path);
+    ltm.Store(MakeLocation(5, {1, 2}));
+    ltm.StoreWord(2, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
+  }
+  const std::string before = testing::ReadBytes(path);
+  {
+    LongTermMemory ltm(path, LtmDatabase::Mode::kRead);
+    ASSERT_TRUE(ltm.Retrieve(5).has_value());  // into WM
+    EXPECT_FALSE(ltm.Contains(5));
+    ltm.Store(MakeLocation(5, {1, 3}));  // back to LTM, with word 2 re-matched to word 3
+    ltm.Store(MakeLocation(7, {3}));     // a location the file never held
+    ltm.StoreWord(3, (cv::Mat_<float>(1, 2) << 1.0f, 2.0f));
+    ltm.ReplaceWord(3, 4);
+    ltm.Flush();
+    EXPECT_EQ(ltm.Peek(5)->signature.words, (std::vector<WordId>{1, 4}));
+    EXPECT_EQ(ltm.Retrieve(7)->signature.words, (std::vector<WordId>{4}));
+    EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));  // from the file
+    EXPECT_FALSE(ltm.LoadWord(3).has_value());                        // renamed
+    EXPECT_EQ(ltm.pending_bytes(), 0u);                               // nothing queued for a writer
+  }
+  EXPECT_EQ(testing::ReadBytes(path), before);
+  LongTermMemory reopened(path, LtmDatabase::Mode::kRead);
+  EXPECT_EQ(reopened.Peek(5)->signature.words, (std::vector<WordId>{1, 2}));
+  EXPECT_FALSE(reopened.Contains(7));
+}
+
 // The map survives the process being killed: what was committed (Flush) is in the file.
 // Runs `body` in a child process that is then killed with SIGKILL, wherever its writer is.
 // True when the child died of that signal.

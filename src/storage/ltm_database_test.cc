@@ -15,11 +15,7 @@
 namespace memloop {
 namespace {
 
-std::string ReadBytes(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) return "";  // a folder or a device: nothing to keep
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::ReadBytes;
 
 Location SampleLocation() {
   Location location;

@@ -28,6 +28,17 @@ Signature CreateSignature(const Features& features, Dictionary& dictionary, int*
   return signature;
 }
 
+Signature MatchSignature(const Features& features, const Dictionary& dictionary) {
+  Signature signature;
+  const std::vector<WordId> words = dictionary.Match(features.descriptors);
+  for (size_t row = 0; row < words.size(); ++row) {
+    if (words[row] == kNoWord) continue;
+    signature.words.push_back(words[row]);
+    signature.keypoints.push_back(features.keypoints[row]);
+  }
+  return signature;
+}
+
 int CountWordPairs(const std::vector<std::pair<WordId, int>>& histogram_a,
                    const std::vector<std::pair<WordId, int>>& histogram_b) {
   int pairs = 0;

@@ -25,6 +25,10 @@ struct Signature {
 // none (paper III-A). `new_word_count` receives how many were created.
 Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count);
 
+// Localization: the words of `dictionary` the features match; a feature that matches none is
+// dropped (with its keypoint) instead of becoming a new word.
+Signature MatchSignature(const Features& features, const Dictionary& dictionary);
+
 // N_pair: matched word pairs of two signatures. A word held m times by one and n times by the
 // other makes min(m, n) pairs (the paper leaves repeated words open; this keeps s <= 1).
 int CountWordPairs(const std::vector<std::pair<WordId, int>>& histogram_a,

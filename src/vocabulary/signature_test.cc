@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "memloop/feature_extractor.h"
 #include "small_memory.h"
+#include "vocabulary/dictionary.h"
 
 namespace memloop {
 namespace {
@@ -30,6 +32,20 @@ TEST(SignatureTest, Equation1DividesByTheLargerSignature) {
   EXPECT_DOUBLE_EQ(Similarity(MakeSignature({7, 8}), MakeSignature({8, 7})), 1.0);
   EXPECT_DOUBLE_EQ(Similarity(MakeSignature({}), MakeSignature({})), 0.0);
   EXPECT_DOUBLE_EQ(Similarity(MakeSignature({1}), MakeSignature({2})), 0.0);
+}
+
+TEST(SignatureTest, LocalizationMatchesWithoutCreatingWords) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  dictionary.Add({1, 2}, (cv::Mat_<float>(2, 2) << 0, 0, 10, 0));
+  Features features;
+  // (1,0) -> word 1; (5,0) is as far from both (ratio test fails) -> dropped; (9,0) -> word 2.
+  features.descriptors = (cv::Mat_<float>(3, 2) << 1, 0, 5, 0, 9, 0);
+  features.keypoints = {cv::KeyPoint(10, 10, 1), cv::KeyPoint(20, 20, 1), cv::KeyPoint(30, 30, 1)};
+  const Signature signature = MatchSignature(features, dictionary);
+  EXPECT_EQ(signature.words, (std::vector<WordId>{1, 2}));
+  ASSERT_EQ(signature.keypoints.size(), 2u);
+  EXPECT_EQ(signature.keypoints[1].pt, cv::Point2f(30, 30));  // each word keeps its own keypoint
+  EXPECT_EQ(dictionary.size(), 2u);
 }
 
 }  // namespace

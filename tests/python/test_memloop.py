@@ -66,6 +66,27 @@ def test_same_loop_closures_as_the_cli(route, tmp_path):
     assert memloop.read_map_options(str(tmp_path / "map.db"))["memory.max_wm_locations"] == 30
 
 
+def test_localization_leaves_the_map_unchanged(route, tmp_path):
+    paths, _ = route
+    lap_one, lap_two = range(0, 110), range(110, 190)  # lap 1 and its detour; lap 2
+    map_path = tmp_path / "lap1.db"
+    with memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(map_path)) as detector:
+        for index in lap_one:
+            detector.process(cv2.imread(paths[index]), index)
+    before = map_path.read_bytes()
+    options = memloop.read_map_options(str(map_path))
+    options["memory.localization"] = True
+    localized = []
+    with memloop.Detector(options, str(map_path)) as detector:
+        for index in lap_two:
+            result = detector.process(cv2.imread(paths[index]), index)
+            assert result.location_id == 0  # the image joins no location
+            if result.has_loop_closure:
+                localized.append(result.loop_closure_images)
+    assert len(localized) >= 60  # of 80
+    assert map_path.read_bytes() == before
+
+
 def test_grey_images_and_results(tmp_path):
     image = np.random.default_rng(3).integers(0, 256, (240, 320), dtype=np.uint8)
     detector = memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "grey.db"))

@@ -1,5 +1,6 @@
 // memloop run IMAGES_DIR|VIDEO_FILE|--camera N [--rate HZ] [--db FILE [--resume]]
-//             [--set NAME=VALUE ...] [--out FILE.csv]
+//             [--config FILE] [--set NAME=VALUE ...] [--out FILE.csv]
+// With --set memory.localization=1 and --db MAP, images are localized against MAP, unchanged.
 #include <iostream>
 
 #include "commands.h"
@@ -36,10 +37,10 @@ void AddRunCommand(CLI::App& app) {
                   "Frames per second to take from a video (by timestamp) or a camera (the paper: "
                   "1); default every frame")
       ->check(CLI::PositiveNumber);
-  CLI::Option* database = run->add_option(
-      "--db", arguments->database,
-      "Map database file (the Long-Term Memory): a new file, or with --resume an existing map; "
-      "default: a temporary file");
+  CLI::Option* database =
+      run->add_option("--db", arguments->database,
+                      "Map database file (the Long-Term Memory): a new file, or with --resume or "
+                      "--set memory.localization=1 an existing map; default: a temporary file");
   run->add_flag("--resume", arguments->resume,
                 "Go on with the map in --db from its last checkpoint: images after the one it "
                 "holds are processed, --out is continued, parameters are the map's (--set may "
@@ -55,10 +56,23 @@ void AddRunCommand(CLI::App& app) {
       ->take_all();
   preset->excludes(run->get_option("--resume"));
   run->callback([arguments] {
-    const Options options = WithSettings(
+    Options options = WithSettings(
         arguments->resume ? ReadMapOptions(arguments->database)
                           : Preset(arguments->preset.empty() ? "default" : arguments->preset),
         arguments->config, arguments->assignments);
+    if (options.memory.localization && !arguments->resume) {
+      if (arguments->database.empty()) {
+        throw ParameterError("memory.localization",
+                             "memory.localization=1 needs --db MAP: the map to localize against");
+      }
+      if (!arguments->preset.empty()) {
+        throw ParameterError("memory.localization",
+                             "--preset: localization uses the parameters of the map in --db");
+      }
+      // The map's parameters, as with --resume; --config and --set apply on top.
+      options = WithSettings(ReadMapOptions(arguments->database), arguments->config,
+                             arguments->assignments);
+    }
     if (arguments->input.empty() && arguments->camera < 0) {
       throw CLI::RequiredError("an input (folder or video) or --camera");
     }
@@ -72,7 +86,7 @@ void AddRunCommand(CLI::App& app) {
     const SessionReport report =
         RunSession(*sequence, options, arguments->database, arguments->out, session);
     std::cout << Summary(report) << "\n";
-    ThrowIfInterrupted(report, arguments->database);
+    ThrowIfInterrupted(report, options.memory.localization ? "" : arguments->database);
     if (report.results.empty() && !arguments->resume) {
       throw InputError(
           arguments->camera >= 0 ? "camera " + std::to_string(arguments->camera) : arguments->input,

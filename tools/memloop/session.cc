@@ -74,6 +74,14 @@ class TemporaryDatabase {
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
                          const SessionOptions& session) {
+  const bool localizing = options.memory.localization != 0;
+  if (localizing && (database_path.empty() || session.resume)) {
+    throw ParameterError("memory.localization",
+                         database_path.empty()
+                             ? "memory.localization=1 needs the map to localize against (--db)"
+                             : "--resume extends the map, memory.localization=1 does not: use "
+                               "one or the other");
+  }
   // Outputs are checked before anything is created: a refused run leaves no file behind.
   if (!csv_path.empty() && !session.resume) RunCsvWriter::CheckCanCreate(csv_path);
   std::unique_ptr<TemporaryDatabase> temporary;
@@ -82,6 +90,10 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   auto detector = std::make_unique<Detector>(options, map_path,
                                              session.resume ? MapMode::kResume : MapMode::kNew);
   std::unique_ptr<RunCsvWriter> csv;
+  if (localizing) {
+    std::cout << "localizing against " << database_path << " (" << detector->images_processed()
+              << " images in the map; it is not modified)" << std::endl;
+  }
   if (session.resume) {
     std::cout << "resuming " << database_path << " after image " << detector->last_image() << " ("
               << detector->images_processed() << " images in the map)" << std::endl;
@@ -94,7 +106,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       csv = std::make_unique<RunCsvWriter>(csv_path);
     } catch (const Error&) {
       detector.reset();
-      if (!temporary) RemoveMap(map_path);  // this run's new, empty map
+      if (!temporary && !localizing) RemoveMap(map_path);  // this run's new, empty map
       throw;
     }
   }
