@@ -231,12 +231,13 @@ TEST(DetectorIntegrationTest, MapFileHoldsEveryLocationAndLoopClosure) {
 
 // The other backends on the generated route with a small WM (SURF, the default, is tested above):
 // loops are found, few false, and words (float or binary) go to LTM and come back. Known gap
-// (issue 8): ORB, whose binary words alias more, gets 3 false positives of 119 here with the
-// defaults (2 with the paper's hypothesis value and STM 20): the first image past a revisited
-// stretch and two views half over the lap's start.
+// (issue 8): with the default upright descriptors, SIFT gets 1 false positive of 118 here and
+// ORB 2 of 122 (oriented: 0 and 2), all on the first images past the second lap's end (190,
+// 191), which the filter's prior still carries to the lap's end; on real data upright removes
+// all 102 of SIFT's false positives on tum_fr1_rpy and 30 of ORB's 31 (docs/real-data.md).
 TEST(DetectorIntegrationTest, OtherFeatureBackendsThroughTransferAndRetrieval) {
   const SyntheticRoute route;
-  const std::map<std::string, int> max_false_positives = {{"sift", 0}, {"orb", 3}};
+  const std::map<std::string, int> max_false_positives = {{"sift", 1}, {"orb", 2}};
   for (const char* backend : {"sift", "orb"}) {
     Options options = Deterministic();
     options.features.type = backend;

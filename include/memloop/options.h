@@ -25,6 +25,11 @@ struct FeatureOptions {
   // 1: U-SURF, no orientation (memloop's default: a robot's camera does not roll, and rolled views
   // of one spot are not the same place; the paper's SURF is 0). docs/real-data.md measures it.
   int surf_upright = 1;
+  // The same for OpenCV's SIFT and ORB: 1 describes every keypoint at angle 0 (memloop; OpenCV's
+  // own detectors orient them, as Options::Paper2011() keeps). On the hand-held tum_fr1_rpy,
+  // oriented SIFT and ORB match rolled views the ground truth calls different (docs/real-data.md).
+  int sift_upright = 1;
+  int orb_upright = 1;
 };
 
 struct DictionaryOptions {
@@ -73,6 +78,11 @@ struct MemoryOptions {
   // iteration takes this fraction of T_time, so that one over T_time is the exception rather than
   // half of them (issue 9, docs/scale.md).
   double time_target = 0.75;
+  // When an iteration is over the time target, transfer enough WM locations for the next one to
+  // fit (the WM-dependent stages scaled to what the target leaves), at most this fraction of WM
+  // per iteration (memloop). 0: the paper's rule alone, words transferred = words added, about
+  // one location per iteration, which takes thousands of images to bring an overgrown WM back.
+  double transfer_max_fraction = 0.02;
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).

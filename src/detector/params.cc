@@ -58,6 +58,10 @@ std::vector<Parameter> MakeRegistry() {
         .Help("SURF: sampling step of the first octave, doubled per octave"),
     Param("surf.extended", MEMLOOP_FIELD(features.surf_extended)).Flag()
         .Help("SURF: true for 128-d descriptors, false for 64-d"),
+    Param("sift.upright", MEMLOOP_FIELD(features.sift_upright)).Flag()
+        .Help("SIFT: true describes every keypoint at angle 0 (upright, not rotation invariant); false = OpenCV's orientation"),
+    Param("orb.upright", MEMLOOP_FIELD(features.orb_upright)).Flag()
+        .Help("ORB: true describes every keypoint at angle 0 (upright, not rotation invariant); false = OpenCV's orientation"),
     Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Flag()
         .Help("SURF: true for U-SURF (no orientation: faster, not rotation invariant)"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
@@ -86,6 +90,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("T_time").Help("Iteration time above which WM locations go to LTM (0 = infinity)"),
     Param("memory.time_target", MEMLOOP_FIELD(memory.time_target)).Range(0.05, 1)
         .Help("Transfer when the iteration reaches this fraction of T_time (1 = the paper), so that whole iterations stay under T_time"),
+    Param("memory.transfer_max_fraction", MEMLOOP_FIELD(memory.transfer_max_fraction)).Range(0, 1)
+        .Help("Over the time target, transfer enough WM locations for the next iteration to fit, at most this fraction of WM per iteration (0 = the paper: words transferred = words added)"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
@@ -157,7 +163,7 @@ bool ParseDouble(const std::string& text, double* value) {
 }  // namespace
 
 bool Parameter::DefinesMap() const {
-  for (const char* group : {"features.", "surf.", "dictionary."}) {
+  for (const char* group : {"features.", "surf.", "sift.", "orb.", "dictionary."}) {
     if (key.rfind(group, 0) == 0) return true;
   }
   return false;

@@ -54,7 +54,8 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
   EXPECT_EQ(departures,
             (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
                                    "filter.loop_threshold", "filter.hypothesis_value",
-                                   "filter.require_support", "memory.time_target"}));
+                                   "filter.require_support", "memory.time_target",
+                                   "memory.transfer_max_fraction", "sift.upright", "orb.upright"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

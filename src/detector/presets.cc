@@ -6,9 +6,12 @@ namespace memloop {
 Options Options::Paper2011() {
   Options options;
   options.features.surf_upright = 0;
+  options.features.sift_upright = 0;  // oriented, as the paper's SURF
+  options.features.orb_upright = 0;
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
   options.memory.time_target = 1.0;
+  options.memory.transfer_max_fraction = 0;
   options.filter.hypothesis_value = "neighbours";
   options.filter.loop_threshold = 0.10;
   options.filter.likelihood = "similarity";

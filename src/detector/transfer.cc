@@ -1,11 +1,22 @@
 #include "detector/transfer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace memloop {
 
 bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target) {
   return time_limit_ms > 0 && elapsed_ms + remaining_ms > target * time_limit_ms;
+}
+
+int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,
+                      double max_fraction) {
+  if (max_fraction <= 0 || elapsed_ms <= target_ms || wm_ms <= 0 || wm_size <= 0) return 0;
+  const double rest_ms = elapsed_ms - wm_ms;
+  if (rest_ms >= target_ms) return 0;  // a slow stage WM does not drive: a smaller WM won't help
+  const double kept = std::min(1.0, (target_ms - rest_ms) / wm_ms);
+  const int over = static_cast<int>(std::ceil(wm_size * (1.0 - kept)));
+  return std::min(over, static_cast<int>(std::ceil(max_fraction * wm_size)));
 }
 
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
@@ -36,7 +47,8 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   std::vector<LocationId> transferred;
   if (!trigger.time_exceeded && !over_budget()) return transferred;
   for (LocationId id : TransferOrder(memory, immune, last)) {
-    const bool enough = !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start;
+    const bool enough = !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start &&
+                        static_cast<int>(transferred.size()) >= trigger.min_locations;
     if (enough && !transferred.empty()) break;
     editor.TransferToLtm(id);
     transferred.push_back(id);

@@ -16,6 +16,7 @@ struct TransferTrigger {
   int max_wm_locations = 0;      // deterministic budget, 0 = none
   int max_dictionary_words = 0;  // deterministic budget, 0 = none
   size_t dictionary_size_at_start = 0;
+  int min_locations = 0;  // transferred at least (LocationsOverTime), once triggered
 };
 
 // The time trigger: the iteration so far (`elapsed_ms`, up to the transfer step) plus what will
@@ -23,13 +24,24 @@ struct TransferTrigger {
 // (memory.time_target; the paper: 1, elapsed > T_time). False when T_time is off (0).
 bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target);
 
+// memloop's time controller (memory.transfer_max_fraction; not in the paper): how many WM
+// locations to transfer so that the next iteration fits `target_ms`. The part of the iteration
+// that grows with WM (`wm_ms`: likelihood, filter, selection) is scaled down to what the target
+// leaves after the rest (elapsed_ms - wm_ms); at most ceil(max_fraction x wm_size), so that one
+// iteration slowed by the machine costs little of WM. 0 when under the target, when the rest
+// alone reaches it (a smaller WM would not help), or when max_fraction is 0 (the paper's rule
+// alone: words transferred = words added, about one location per iteration).
+int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,
+                      double max_fraction);
+
 // WM locations in the order they would be transferred: lowest weight first, then oldest
 // (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest
 // hypothesis' neighbourhood) only after all others, in the same order among themselves.
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
                                       const std::set<LocationId>& last = {});
 
-// Transfers while the trigger holds (at least one location once triggered). Returns the ids.
+// Transfers while the trigger holds (at least one location, and trigger.min_locations, once
+// triggered). Returns the ids.
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
                                  const std::set<LocationId>& last, const Memory& memory,
                                  MapEditor& editor);

@@ -73,6 +73,16 @@ TEST_F(TransferTest, AtLeastOneLocationOnceTriggered) {
   EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_).size(), 1u);
 }
 
+// The time controller asks for 3: the dictionary rule alone (nothing added) would stop at one.
+TEST_F(TransferTest, TimeControllerTransfersItsCount) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  trigger.min_locations = 3;
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_),
+            (std::vector<LocationId>{ids_[1], ids_[2], ids_[3]}));
+}
+
 TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
   TransferTrigger trigger;
   trigger.max_wm_locations = 2;
@@ -108,6 +118,23 @@ TEST(TimeExceededTest, CountsTheCheckpointAndAimsBelowTimeLimit) {
   EXPECT_TRUE(TimeExceeded(60, 16, 100, 0.75));
   EXPECT_FALSE(TimeExceeded(60, 15, 100, 0.75));
   EXPECT_FALSE(TimeExceeded(1e9, 1e9, 0, 0.75));
+}
+
+// Target 75 ms, WM 1000. 90 ms with 40 in the WM stages: the rest is 50, so the WM stages may
+// take 25 of their 40 ms: keep 62.5%, transfer 375 -> capped at 2% = 20. With a cap of 50%: 375.
+// 80 ms with 40 in WM: keep 35/40 = 87.5%, 125 over. The rest alone over the target (a slow
+// stage that WM does not drive, or a machine busy elsewhere): none, as under the target, with the
+// WM stages unmeasured, or with the paper's rule (cap 0).
+TEST(LocationsOverTimeTest, ScalesTheWorkingMemoryStagesToTheTarget) {
+  EXPECT_EQ(LocationsOverTime(90, 40, 75, 1000, 0.02), 20);
+  EXPECT_EQ(LocationsOverTime(90, 40, 75, 1000, 0.5), 375);
+  EXPECT_EQ(LocationsOverTime(80, 40, 75, 1000, 0.5), 125);
+  EXPECT_EQ(LocationsOverTime(200, 10, 75, 1000, 0.5), 0);
+  EXPECT_EQ(LocationsOverTime(90, 40, 50, 1000, 0.5), 0);  // rest 50 = target
+  EXPECT_EQ(LocationsOverTime(90, 40, 75, 10, 0.02), 1);   // the cap rounds up: at least one
+  EXPECT_EQ(LocationsOverTime(70, 40, 75, 1000, 0.5), 0);
+  EXPECT_EQ(LocationsOverTime(90, 0, 75, 1000, 0.5), 0);
+  EXPECT_EQ(LocationsOverTime(90, 40, 75, 1000, 0), 0);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <tuple>
 
 namespace memloop {
 
@@ -29,9 +30,35 @@ Features SortStrongestFirst(Features features) {
   return sorted;
 }
 
-Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type) {
+namespace {
+
+// The keypoints at angle 0, each position, size and scale once, in a total order.
+std::vector<cv::KeyPoint> Upright(std::vector<cv::KeyPoint> keypoints) {
+  for (cv::KeyPoint& keypoint : keypoints) keypoint.angle = 0;
+  const auto key = [](const cv::KeyPoint& k) {
+    return std::make_tuple(-k.response, k.pt.y, k.pt.x, k.size, k.octave);
+  };
+  std::sort(keypoints.begin(), keypoints.end(),
+            [&](const cv::KeyPoint& a, const cv::KeyPoint& b) { return key(a) < key(b); });
+  keypoints.erase(
+      std::unique(keypoints.begin(), keypoints.end(),
+                  [&](const cv::KeyPoint& a, const cv::KeyPoint& b) { return key(a) == key(b); }),
+      keypoints.end());
+  return keypoints;
+}
+
+}  // namespace
+
+Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type,
+                           bool upright) {
   Features features;
-  detector.detectAndCompute(gray, cv::noArray(), features.keypoints, features.descriptors);
+  if (upright) {
+    detector.detect(gray, features.keypoints);
+    features.keypoints = Upright(std::move(features.keypoints));
+    detector.compute(gray, features.keypoints, features.descriptors);  // at the given angles
+  } else {
+    detector.detectAndCompute(gray, cv::noArray(), features.keypoints, features.descriptors);
+  }
   if (features.descriptors.empty()) features.descriptors = cv::Mat(0, dim, cv_type);
   return SortStrongestFirst(std::move(features));
 }

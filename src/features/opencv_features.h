@@ -12,7 +12,10 @@ namespace memloop {
 Features SortStrongestFirst(Features features);
 
 // An OpenCV detector-descriptor's features in that order; an image without keypoints gives an
-// empty matrix of the right width and type (`dim` columns of `cv_type`).
-Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type);
+// empty matrix of the right width and type (`dim` columns of `cv_type`). `upright`: every
+// keypoint is described at angle 0 (the detector's orientations dropped, and keypoints it made
+// once per dominant orientation, as SIFT does, kept once), as U-SURF.
+Features DetectAndDescribe(cv::Feature2D& detector, const cv::Mat& gray, int dim, int cv_type,
+                           bool upright = false);
 
 }  // namespace memloop

@@ -7,7 +7,7 @@
 namespace memloop {
 
 // OpenCV's ORB (Rublee et al. 2011): 256-bit binary descriptors (32 bytes), compared by Hamming
-// distance; the dictionary indexes them by LSH.
+// distance; the dictionary indexes them by LSH. Upright by default (orb.upright).
 class OrbExtractor : public FeatureExtractor {
  public:
   explicit OrbExtractor(const FeatureOptions& options);
@@ -18,6 +18,7 @@ class OrbExtractor : public FeatureExtractor {
 
  private:
   cv::Ptr<cv::ORB> orb_;
+  bool upright_;
 };
 
 }  // namespace memloop

@@ -6,7 +6,7 @@
 
 namespace memloop {
 
-// OpenCV's SIFT (Lowe 2004), 128-d float descriptors.
+// OpenCV's SIFT (Lowe 2004), 128-d float descriptors; upright by default (sift.upright).
 class SiftExtractor : public FeatureExtractor {
  public:
   explicit SiftExtractor(const FeatureOptions& options);
@@ -17,6 +17,7 @@ class SiftExtractor : public FeatureExtractor {
 
  private:
   cv::Ptr<cv::SIFT> sift_;
+  bool upright_;
 };
 
 }  // namespace memloop
