@@ -106,6 +106,7 @@ class FlannWordIndex : public WordIndex {
     word_of_point_.erase(found->second);
     point_of_word_.erase(found);
     ++changes_since_build_;
+    if (pending_) removed_since_snapshot_.push_back(id);
   }
 
   bool Contains(WordId id) const override { return point_of_word_.count(id) > 0; }
@@ -294,6 +295,7 @@ class FlannWordIndex : public WordIndex {
   void LaunchBuild(std::vector<WordId> words, std::vector<Element> buffer, size_t snapshot_point,
                    int age) {
     pending_ = std::make_unique<PendingBuild>();
+    removed_since_snapshot_.clear();
     pending_->words = std::move(words);
     pending_->snapshot_point = snapshot_point;
     pending_->age = age;
@@ -328,13 +330,16 @@ class FlannWordIndex : public WordIndex {
     }
     LaunchBuild(history.pending_words, std::move(buffer), history.pending_point,
                 history.pending_age);
+    for (WordId word : history.pending_words) {  // live at the snapshot, removed since
+      if (!point_of_word_.count(word)) removed_since_snapshot_.push_back(word);
+    }
   }
 
   // The new index replaces the old one, brought up to date: the words added since the snapshot
   // (in word order) are added to it, and the snapshot's points of words removed or added again
   // since are removed. A replay of the history (batch 0 = the snapshot, batch 1 = those words)
-  // builds the same index. Work here is in the changes since the snapshot, plus one lookup per
-  // snapshot word: the maps were made in the background, the old index is freed there too.
+  // builds the same index. Work here is in the changes since the snapshot: the maps were made in
+  // the background, the old index is freed there too.
   void FinishBuild() {
     std::unique_ptr<PendingBuild> pending = std::move(pending_);
     Built built = pending->built.get();  // waits when not built yet
@@ -350,13 +355,23 @@ class FlannWordIndex : public WordIndex {
     for (size_t i = 0; i < added.size(); ++i) {
       std::copy_n(Point(added[i]), dim(), added_buffer.data() + i * dim());
     }
-    size_t removed = 0;  // snapshot points whose word left, or came back after the snapshot
-    for (size_t point = 0; point < snapshot_size; ++point) {
-      const auto found = point_of_word_.find(pending->words[point]);
+    // Snapshot points whose word left, or came back after the snapshot: only words removed or
+    // added since can be such, so the work is in the changes, not in the snapshot's size.
+    std::vector<WordId> changed = std::move(removed_since_snapshot_);
+    removed_since_snapshot_.clear();
+    changed.insert(changed.end(), point_words_.begin() + pending->snapshot_point,
+                   point_words_.begin() + next_point_);
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    size_t removed = 0;
+    for (WordId word : changed) {
+      const auto snapshot_point = built.point_of_word.find(word);
+      if (snapshot_point == built.point_of_word.end()) continue;  // not in the snapshot
+      const auto found = point_of_word_.find(word);
       if (found != point_of_word_.end() && found->second < pending->snapshot_point) continue;
-      built.index->removePoint(point);
-      built.point_of_word.erase(pending->words[point]);
-      built.word_of_point.erase(point);
+      built.index->removePoint(snapshot_point->second);
+      built.word_of_point.erase(snapshot_point->second);
+      built.point_of_word.erase(snapshot_point);
       ++removed;
     }
     std::deque<std::vector<Element>> buffers;
@@ -425,8 +440,9 @@ class FlannWordIndex : public WordIndex {
   }
 
   DictionaryOptions options_;
-  std::unique_ptr<PendingBuild> pending_;  // its destruction waits for the build thread
-  std::future<void> retired_;              // the old forest being freed after a swap
+  std::unique_ptr<PendingBuild> pending_;       // its destruction waits for the build thread
+  std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending
+  std::future<void> retired_;                   // the old forest being freed after a swap
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   std::unordered_map<WordId, size_t> point_of_word_;
