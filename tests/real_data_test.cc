@@ -87,11 +87,12 @@ DataSetRun RunDataSet(const std::string& name, Options options) {
 }
 
 // Issue 8's floors with the default parameters, a margin under what docs/real-data.md measured
-// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 86%, tum_fr1_rpy 28.9%), and no
+// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82%, tum_fr1_rpy 29.8%, corridor
+// 3.6%), and no
 // false positive at the default T_loop.
 TEST(RealDataTest, RecallFloorsOnEverySharedDataSet) {
   const std::map<std::string, double> floors = {
-      {"rtabmap_samples", 0.95}, {"gp_walk_a", 0.77}, {"tum_fr1_rpy", 0.20}, {"corridor", 0.0}};
+      {"rtabmap_samples", 0.95}, {"gp_walk_a", 0.77}, {"tum_fr1_rpy", 0.20}, {"corridor", 0.01}};
   int present = 0;
   for (const auto& [name, floor] : floors) {
     if (!std::filesystem::exists(std::string(MEMLOOP_DATASETS) + "/" + name + "/images")) continue;
