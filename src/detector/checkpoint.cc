@@ -5,7 +5,6 @@
 #include <functional>
 #include <string_view>
 #include <type_traits>
-#include <unordered_set>
 
 #include "memloop/errors.h"
 
@@ -178,34 +177,29 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
   if (checkpoint.reset_index) {
     history = index.History(0, /*complete=*/false);
     if (first_) {  // the file's descriptors all go
-      descriptors_written_.clear();
-      descriptors_to_forget_.clear();
+      descriptors_written_.Clear();
+      descriptors_to_forget_.Clear();
     }
     // Descriptors the new points no longer name are deleted later, a few at a time, so that the
     // writer (which the next checkpoint waits for) is not held up.
-    const std::unordered_set<WordId> named(history.point_words.begin(), history.point_words.end());
-    for (WordId word : descriptors_written_) {
-      if (!named.count(word)) descriptors_to_forget_.insert(word);
-    }
-    for (WordId word : descriptors_to_forget_) descriptors_written_.erase(word);
+    WordBitset named;
+    for (WordId word : history.point_words) named.Insert(word);
+    descriptors_written_.MoveAbsentFrom(named, descriptors_to_forget_);
   }
+  checkpoint.index_points.reserve(history.point_words.size());
   for (size_t k = 0; k < history.point_words.size(); ++k) {
     const WordId word = history.point_words[k];
     const size_t point = history.first_point + k;
     std::vector<unsigned char> descriptor;
-    if (descriptors_written_.insert(word).second) {
+    if (descriptors_written_.Insert(word)) {
       const cv::Mat row = index.PointDescriptor(point);
       descriptor.assign(row.data, row.data + row.total() * row.elemSize());
-      descriptors_to_forget_.erase(word);  // written again: it must stay
+      descriptors_to_forget_.Erase(word);  // written again: it must stay
     }
     checkpoint.index_points.push_back({static_cast<long long>(point), word, std::move(descriptor)});
   }
   constexpr size_t kForgottenPerCheckpoint = 2000;
-  while (!descriptors_to_forget_.empty() &&
-         checkpoint.forgotten_descriptors.size() < kForgottenPerCheckpoint) {
-    checkpoint.forgotten_descriptors.push_back(*descriptors_to_forget_.begin());
-    descriptors_to_forget_.erase(descriptors_to_forget_.begin());
-  }
+  checkpoint.forgotten_descriptors = descriptors_to_forget_.TakeSmallest(kForgottenPerCheckpoint);
   index_build_count_ = history.build_count;
   index_points_written_ = history.point_count;
 

@@ -13,13 +13,13 @@
 #include <set>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include "detector/bayes_filter.h"
 #include "detector/map_editor.h"
 #include "detector/memory.h"
+#include "detector/word_bitset.h"
 #include "storage/ltm_database.h"
 #include "vocabulary/word_index.h"
 
@@ -61,8 +61,8 @@ class CheckpointWriter {
   std::unordered_map<std::string, size_t> state_hashes_;
   int index_build_count_ = -1;
   size_t index_points_written_ = 0;
-  std::unordered_set<WordId> descriptors_written_;       // words whose descriptor the file holds
-  std::set<WordId> descriptors_to_forget_;               // held, but named by no point any more
+  WordBitset descriptors_written_;                       // words whose descriptor the file holds
+  WordBitset descriptors_to_forget_;                     // held, but named by no point any more
   std::pair<int, size_t> pending_words_written_{-1, 0};  // (build count, snapshot point)
 };
 
