@@ -53,6 +53,8 @@ class FlannWordIndex : public WordIndex {
 
   FlannWordIndex(DescriptorKind kind, int dim, const DictionaryOptions& options)
       : WordIndex(kind, dim), options_(options) {}
+  // A build running in the background reads buffers_: it ends before they go.
+  ~FlannWordIndex() override { pending_.reset(); }
 
   void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) override {
     assert(descriptors.type() == cv_type() && descriptors.cols == dim());
@@ -84,11 +86,8 @@ class FlannWordIndex : public WordIndex {
     changes_since_build_ += ids.size();
     if (pending_) {
       ++pending_->age;
-      const bool due =
-          options_.rebuild_swap_when_ready
-              ? pending_->built.wait_for(std::chrono::seconds(0)) == std::future_status::ready
-              : pending_->age >= SwapDelay(pending_->words.size());
-      if (due) FinishBuild();
+      if (!pending_->catching_up && CatchUpDue()) StartCatchUp();
+      if (pending_->catching_up && SwapDue()) FinishBuild();
     } else if (changes_since_build_ >
                options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
       if (options_.rebuild_delay > 0 && !point_of_word_.empty()) {
@@ -271,15 +270,71 @@ class FlannWordIndex : public WordIndex {
     int age = 0;                // Adds since
     std::vector<Element> buffer;
     std::future<Built> built;
+    // The catch-up (StartCatchUp): the points from the snapshot to catch_up_point, added to the
+    // new index in the background; their descriptors are in catch_up_buffer.
+    bool catching_up = false;
+    size_t catch_up_point = 0;
+    std::vector<Element> catch_up_buffer;
+    std::future<Built> caught_up;
   };
 
-  // The live words, sorted (so that the same history gives the same index), and their
+  // When the build is done (T_time on), or half-way to its use (T_time off: a fixed age, so
+  // that the same history gives the same index), the points added since the snapshot are added
+  // to the new index in the background: the swap then adds only those that came after.
+  bool CatchUpDue() const {
+    if (options_.rebuild_swap_when_ready) {
+      return pending_->built.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    }
+    return pending_->age >= CatchUpAge();
+  }
+  bool SwapDue() const {
+    if (options_.rebuild_swap_when_ready) {
+      return pending_->caught_up.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    }
+    return pending_->age >= SwapDelay(pending_->words.size());
+  }
+  int CatchUpAge() const { return SwapDelay(pending_->words.size()) / 2; }
+
+  // T_time off: next_point_ when the age was CatchUpAge() (the end of that Add), also when a
+  // resumed map replays a build whose catch-up had started. T_time on: now.
+  size_t CatchUpPoint() const {
+    if (options_.rebuild_swap_when_ready) return next_point_;
+    const auto first_batch =
+        std::lower_bound(batch_starts_.begin(), batch_starts_.end(), pending_->snapshot_point);
+    const size_t batch = static_cast<size_t>(first_batch - batch_starts_.begin()) + CatchUpAge();
+    return batch < batch_starts_.size() ? batch_starts_[batch] : next_point_;
+  }
+
+  void StartCatchUp() {
+    PendingBuild& pending = *pending_;
+    pending.catching_up = true;
+    pending.catch_up_point = CatchUpPoint();
+    const size_t count = pending.catch_up_point - pending.snapshot_point;
+    pending.catch_up_buffer.resize(count * dim());
+    for (size_t i = 0; i < count; ++i) {
+      std::copy_n(index_->getPoint(pending.snapshot_point + i), dim(),
+                  pending.catch_up_buffer.data() + i * dim());
+    }
+    const flann::Matrix<Element> points(pending.catch_up_buffer.data(), count, dim());
+    pending.caught_up =
+        std::async(std::launch::async, [points, built = std::move(pending.built)]() mutable {
+          Built index = built.get();
+          if (points.rows > 0) index.index->addPoints(points, /*rebuild_threshold=*/1.0f);
+          return index;
+        });
+  }
+
+  // The live words, sorted (so that the same history gives the same index), and (Snapshot) their
   // descriptors row by row: what a full build is made from.
-  std::pair<std::vector<WordId>, std::vector<Element>> Snapshot() const {
+  std::vector<WordId> LiveWords() const {
     std::vector<WordId> words;
     words.reserve(point_of_word_.size());
     for (const auto& entry : point_of_word_) words.push_back(entry.first);
     std::sort(words.begin(), words.end());
+    return words;
+  }
+  std::pair<std::vector<WordId>, std::vector<Element>> Snapshot() const {
+    std::vector<WordId> words = LiveWords();
     std::vector<Element> buffer(words.size() * dim());
     for (size_t i = 0; i < words.size(); ++i) {
       std::copy_n(Point(words[i]), dim(), buffer.data() + i * dim());
@@ -287,32 +342,50 @@ class FlannWordIndex : public WordIndex {
     return {std::move(words), std::move(buffer)};
   }
 
+  // The live words, sorted, and where their descriptors are: the build copies them itself, off
+  // the iteration (tens of megabytes at a few hundred thousand words). The rows stay valid while
+  // it runs: buffers are freed only by the swap that ends this build, or by Replay, which waits
+  // for it first.
   void StartBuild() {
-    auto [words, buffer] = Snapshot();
-    LaunchBuild(std::move(words), std::move(buffer), next_point_, 0);
+    std::vector<WordId> words = LiveWords();
+    std::vector<const Element*> rows(words.size());
+    for (size_t i = 0; i < words.size(); ++i) rows[i] = Point(words[i]);
+    LaunchBuild(std::move(words), {}, std::move(rows), next_point_, 0);
   }
 
-  void LaunchBuild(std::vector<WordId> words, std::vector<Element> buffer, size_t snapshot_point,
-                   int age) {
+  // A build over `words` in the background, from `buffer` (their descriptors, row by row) or, when
+  // it is empty, from copies of the `rows` it makes there.
+  void LaunchBuild(std::vector<WordId> words, std::vector<Element> buffer,
+                   std::vector<const Element*> rows, size_t snapshot_point, int age) {
     pending_ = std::make_unique<PendingBuild>();
     removed_since_snapshot_.clear();
     pending_->words = std::move(words);
     pending_->snapshot_point = snapshot_point;
     pending_->age = age;
     pending_->buffer = std::move(buffer);  // its rows stay where they are for the new index
-    const flann::Matrix<Element> points(pending_->buffer.data(), pending_->words.size(), dim());
+    std::vector<Element>* points = &pending_->buffer;               // written there, then read-only
     const std::vector<WordId>* words_of_points = &pending_->words;  // read-only while it runs
-    pending_->built = std::async(std::launch::async, [points, words_of_points, options = options_] {
-      Built built;
-      built.index = BuildIndex<Distance>(points, options);
-      built.point_of_word.reserve(words_of_points->size());
-      built.word_of_point.reserve(words_of_points->size());
-      for (size_t point = 0; point < words_of_points->size(); ++point) {
-        built.point_of_word[(*words_of_points)[point]] = point;
-        built.word_of_point[point] = (*words_of_points)[point];
-      }
-      return built;
-    });
+    pending_->built = std::async(
+        std::launch::async,
+        [points, rows = std::move(rows), words_of_points, dim = dim(), options = options_] {
+          if (!rows.empty()) {
+            points->resize(rows.size() * dim);
+            for (size_t i = 0; i < rows.size(); ++i) {
+              std::copy_n(rows[i], dim, points->data() + i * dim);
+            }
+          }
+          Built built;
+          built.index = BuildIndex<Distance>(
+              flann::Matrix<Element>(points->data(), words_of_points->size(), dim), options);
+          // Room for the words the swap adds (rehashing these maps there took 20 ms at 270,000).
+          built.point_of_word.reserve(2 * words_of_points->size());
+          built.word_of_point.reserve(2 * words_of_points->size());
+          for (size_t point = 0; point < words_of_points->size(); ++point) {
+            built.point_of_word[(*words_of_points)[point]] = point;
+            built.word_of_point[point] = (*words_of_points)[point];
+          }
+          return built;
+        });
   }
 
   // The snapshot of a checkpoint's pending build: each word's descriptor as it was then.
@@ -328,64 +401,79 @@ class FlannWordIndex : public WordIndex {
       std::copy_n(history.descriptors.ptr<Element>(static_cast<int>(found->second)), dim(),
                   buffer.data() + i * dim());
     }
-    LaunchBuild(history.pending_words, std::move(buffer), history.pending_point,
+    LaunchBuild(history.pending_words, std::move(buffer), {}, history.pending_point,
                 history.pending_age);
     for (WordId word : history.pending_words) {  // live at the snapshot, removed since
       if (!point_of_word_.count(word)) removed_since_snapshot_.push_back(word);
     }
   }
 
-  // The new index replaces the old one, brought up to date: the words added since the snapshot
-  // (in word order) are added to it, and the snapshot's points of words removed or added again
-  // since are removed. A replay of the history (batch 0 = the snapshot, batch 1 = those words)
-  // builds the same index. Work here is in the changes since the snapshot: the maps were made in
-  // the background, the old index is freed there too.
+  // The new index replaces the old one, brought up to date: it holds the snapshot (batch 0), then
+  // every point since the snapshot in order, those up to the catch-up point added in the
+  // background (batch 1), the rest here (batch 2); points whose word left or came again later are
+  // removed. A replay of the history (these batches, then the removal of every point but each
+  // live word's latest) builds the same index. Work here is in the changes since the catch-up
+  // started (and one look-up per change since the snapshot): the maps were made in the
+  // background, the old index is freed there too.
   void FinishBuild() {
     std::unique_ptr<PendingBuild> pending = std::move(pending_);
-    Built built = pending->built.get();  // waits when not built yet
+    Built built = pending->caught_up.get();  // waits when not ready yet
     const size_t snapshot_size = pending->words.size();
-    std::vector<WordId> added;  // live words whose point came after the snapshot
-    for (size_t point = pending->snapshot_point; point < next_point_; ++point) {
-      const WordId word = point_words_[point];
-      const auto found = point_of_word_.find(word);
-      if (found != point_of_word_.end() && found->second == point) added.push_back(word);
+    const size_t snapshot_point = pending->snapshot_point;
+    const size_t caught_up = pending->catch_up_point - snapshot_point;
+    const size_t later = next_point_ - pending->catch_up_point;
+    std::vector<Element> later_buffer(later * dim());
+    for (size_t i = 0; i < later; ++i) {
+      std::copy_n(index_->getPoint(pending->catch_up_point + i), dim(),
+                  later_buffer.data() + i * dim());
     }
-    std::sort(added.begin(), added.end());
-    std::vector<Element> added_buffer(added.size() * dim());
-    for (size_t i = 0; i < added.size(); ++i) {
-      std::copy_n(Point(added[i]), dim(), added_buffer.data() + i * dim());
+    if (later > 0) {
+      built.index->addPoints(flann::Matrix<Element>(later_buffer.data(), later, dim()),
+                             /*rebuild_threshold=*/1.0f);
     }
     // Snapshot points whose word left, or came back after the snapshot: only words removed or
-    // added since can be such, so the work is in the changes, not in the snapshot's size.
+    // added since can be such.
     std::vector<WordId> changed = std::move(removed_since_snapshot_);
     removed_since_snapshot_.clear();
-    changed.insert(changed.end(), point_words_.begin() + pending->snapshot_point,
+    changed.insert(changed.end(), point_words_.begin() + snapshot_point,
                    point_words_.begin() + next_point_);
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     size_t removed = 0;
     for (WordId word : changed) {
-      const auto snapshot_point = built.point_of_word.find(word);
-      if (snapshot_point == built.point_of_word.end()) continue;  // not in the snapshot
-      const auto found = point_of_word_.find(word);
-      if (found != point_of_word_.end() && found->second < pending->snapshot_point) continue;
-      built.index->removePoint(snapshot_point->second);
-      built.word_of_point.erase(snapshot_point->second);
-      built.point_of_word.erase(snapshot_point);
+      const auto in_snapshot = built.point_of_word.find(word);
+      if (in_snapshot == built.point_of_word.end()) continue;
+      const auto live = point_of_word_.find(word);
+      if (live != point_of_word_.end() && live->second < snapshot_point) continue;
+      built.index->removePoint(in_snapshot->second);
+      built.word_of_point.erase(in_snapshot->second);
+      built.point_of_word.erase(in_snapshot);
       ++removed;
+    }
+    // Points since the snapshot: point q is point snapshot_size + (q - snapshot_point) of the new
+    // index, kept when it is its word's live point.
+    for (size_t point = snapshot_point; point < next_point_; ++point) {
+      const WordId word = point_words_[point];
+      const size_t new_point = snapshot_size + (point - snapshot_point);
+      const auto live = point_of_word_.find(word);
+      if (live != point_of_word_.end() && live->second == point) {
+        built.point_of_word[word] = new_point;
+        built.word_of_point[new_point] = word;
+      } else {
+        built.index->removePoint(new_point);
+        ++removed;
+      }
     }
     std::deque<std::vector<Element>> buffers;
     buffers.push_back(std::move(pending->buffer));
     batch_starts_ = {0};
-    if (!added.empty()) {
-      buffers.push_back(std::move(added_buffer));
-      built.index->addPoints(flann::Matrix<Element>(buffers.back().data(), added.size(), dim()),
-                             /*rebuild_threshold=*/1.0f);
+    if (caught_up > 0) {
+      buffers.push_back(std::move(pending->catch_up_buffer));
       batch_starts_.push_back(snapshot_size);
-      for (size_t i = 0; i < added.size(); ++i) {
-        built.point_of_word[added[i]] = snapshot_size + i;
-        built.word_of_point[snapshot_size + i] = added[i];
-      }
+    }
+    if (later > 0) {
+      buffers.push_back(std::move(later_buffer));
+      batch_starts_.push_back(snapshot_size + caught_up);
     }
     Retire();
     index_.swap(built.index);
@@ -397,11 +485,13 @@ class FlannWordIndex : public WordIndex {
                             old.index.reset();  // the old forest and maps, freed off the iteration
                             old_buffers.clear();
                           });
-    point_words_ = std::move(pending->words);
-    point_words_.insert(point_words_.end(), added.begin(), added.end());
+    std::vector<WordId> words = std::move(pending->words);
+    words.insert(words.end(), point_words_.begin() + snapshot_point,
+                 point_words_.begin() + next_point_);
+    point_words_ = std::move(words);
     next_point_ = point_words_.size();
     size_at_build_ = snapshot_size;
-    changes_since_build_ = added.size() + removed;
+    changes_since_build_ = caught_up + later + removed;
     ++build_count_;
   }
 

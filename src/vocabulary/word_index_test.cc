@@ -94,16 +94,18 @@ TEST(WordIndexTest, BackgroundRebuildIsUsedAtItsDelayWithTheWordsSinceItsSnapsho
   EXPECT_EQ(history.pending_point, 700u);
   EXPECT_EQ(history.pending_words.size(), 699u);  // 700 words, 2 removed
   EXPECT_EQ(history.pending_age, 0);
-  index->Remove(3);                                      // removed after the snapshot
-  index->Add({2}, points.rowRange(1, 2));                // back after the snapshot
+  index->Remove(3);                        // removed after the snapshot
+  index->Add({2}, points.rowRange(1, 2));  // back after the snapshot; age 1: the catch-up
+                                           // adds it to the new forest in the background
   index->Add(Ids(701, 100), points.rowRange(700, 800));  // age 2: still the old forest
   EXPECT_EQ(index->build_count(), 1);
   index->Add(Ids(801, 100), points.rowRange(800, 900));  // age 3: the new one
   EXPECT_EQ(index->build_count(), 2);
   history = index->History(0);
   EXPECT_FALSE(history.pending);
-  // Snapshot (699 words, word 3 removed since), then words 2 and 701-900 in word order.
-  EXPECT_EQ(history.batch_starts, (std::vector<size_t>{0, 699}));
+  // Snapshot (699 words, word 3 removed since), word 2 (caught up at age 1), then 701-900 (added
+  // at the swap), in the order they came.
+  EXPECT_EQ(history.batch_starts, (std::vector<size_t>{0, 699, 700}));
   EXPECT_EQ(history.point_count, 699u + 201u);
   EXPECT_EQ(history.size_at_build, 699u);
   EXPECT_EQ(history.changes_since_build, 201u + 1u);  // and word 3's snapshot point removed
@@ -322,6 +324,56 @@ TEST_P(WordIndexReplayTest, ReplayedHistoryGivesTheSameIndex) {
   EXPECT_EQ(replayed->build_count(), original->build_count());
   EXPECT_EQ(original->build_count(), 2);  // the test went through a rebuild
   ExpectSameSearches(*original, *replayed, queries);
+}
+
+// Checkpointed after the catch-up started (delay 4: at age 2), with a word added before it and
+// removed after, and a word removed before the snapshot's use and added again: the replay starts
+// the same catch-up (up to the same point) and swaps at the same Add, to the same forest.
+TEST_P(WordIndexReplayTest, ReplayDuringTheCatchUpGoesOnAsTheOriginal) {
+  const DescriptorKind kind = GetParam();
+  const int dim = kind == DescriptorKind::kFloat ? 16 : 32;
+  DictionaryOptions options;
+  options.kd_checks = 4;
+  options.rebuild_delay = 4;
+  auto original = WordIndex::Create(kind, dim, options);
+  original->Add(Ids(1, 300), Points(kind, 300, dim, 61));
+  original->Add(Ids(301, 301), Points(kind, 301, dim, 62));  // starts the build
+  original->Remove(5);
+  original->Add(Ids(700, 50), Points(kind, 50, dim, 63));  // age 1
+  original->Add(Ids(750, 20), Points(kind, 20, dim, 64));  // age 2: the catch-up starts
+  original->Remove(710);                                   // caught up, then removed
+  original->Add({5}, Points(kind, 1, dim, 65));            // age 3: back
+  const IndexHistory history = original->History(0);
+  ASSERT_TRUE(history.pending);
+  ASSERT_EQ(history.pending_age, 3);
+  std::vector<WordId> live;
+  for (WordId id = 1; id <= 601; ++id) live.push_back(id);
+  for (WordId id = 700; id < 770; ++id) {
+    if (id != 710) live.push_back(id);
+  }
+  auto replayed = WordIndex::Create(kind, dim, options);
+  replayed->Replay(history, live);
+  const cv::Mat queries = Points(kind, 300, dim, 66);
+  ExpectSameSearches(*original, *replayed, queries);
+  for (int batch = 0; batch < 3; ++batch) {
+    const cv::Mat more = Points(kind, 20, dim, 70 + batch);
+    original->Add(Ids(800 + 20 * batch, 20), more);
+    replayed->Add(Ids(800 + 20 * batch, 20), more);
+  }
+  EXPECT_EQ(original->build_count(), 2);
+  EXPECT_EQ(replayed->build_count(), 2);
+  ExpectSameSearches(*original, *replayed, queries);
+  const IndexHistory after = original->History(0);
+  EXPECT_EQ(after.batch_starts, replayed->History(0).batch_starts);
+  EXPECT_EQ(after.point_words, replayed->History(0).point_words);
+  EXPECT_FALSE(original->Contains(710));
+  EXPECT_TRUE(original->Contains(5));
+  // And a replay of the rebuilt index's own history gives it again.
+  auto again = WordIndex::Create(kind, dim, options);
+  std::vector<WordId> now = live;
+  for (WordId id = 800; id < 860; ++id) now.push_back(id);
+  again->Replay(after, now);
+  ExpectSameSearches(*original, *again, queries);
 }
 
 // A map checkpointed while a rebuild runs in the background resumes with that build pending, and
