@@ -326,15 +326,22 @@ TEST_P(WordIndexReplayTest, ReplayedHistoryGivesTheSameIndex) {
   ExpectSameSearches(*original, *replayed, queries);
 }
 
+// Few checks (so that a different forest gives different answers) and a background rebuild used
+// 4 Adds after it starts.
+DictionaryOptions RebuildAfterFourAdds() {
+  DictionaryOptions options;
+  options.kd_checks = 4;
+  options.rebuild_delay = 4;
+  return options;
+}
+
 // Checkpointed after the catch-up started (delay 4: at age 2), with a word added before it and
 // removed after, and a word removed before the snapshot's use and added again: the replay starts
 // the same catch-up (up to the same point) and swaps at the same Add, to the same forest.
 TEST_P(WordIndexReplayTest, ReplayDuringTheCatchUpGoesOnAsTheOriginal) {
   const DescriptorKind kind = GetParam();
   const int dim = kind == DescriptorKind::kFloat ? 16 : 32;
-  DictionaryOptions options;
-  options.kd_checks = 4;
-  options.rebuild_delay = 4;
+  const DictionaryOptions options = RebuildAfterFourAdds();
   auto original = WordIndex::Create(kind, dim, options);
   original->Add(Ids(1, 300), Points(kind, 300, dim, 61));
   original->Add(Ids(301, 301), Points(kind, 301, dim, 62));  // starts the build
@@ -381,9 +388,7 @@ TEST_P(WordIndexReplayTest, ReplayDuringTheCatchUpGoesOnAsTheOriginal) {
 TEST_P(WordIndexReplayTest, ReplayDuringABackgroundRebuildGoesOnAsTheOriginal) {
   const DescriptorKind kind = GetParam();
   const int dim = kind == DescriptorKind::kFloat ? 16 : 32;
-  DictionaryOptions options;
-  options.kd_checks = 4;
-  options.rebuild_delay = 4;
+  const DictionaryOptions options = RebuildAfterFourAdds();
   auto original = WordIndex::Create(kind, dim, options);
   original->Add(Ids(1, 300), Points(kind, 300, dim, 41));
   original->Add(Ids(301, 301), Points(kind, 301, dim, 42));  // starts the build
