@@ -419,12 +419,14 @@ class Detector::Impl {
     // checkpoint) is counted too, as the previous iteration measured it, so that the whole
     // iteration, not only its part up to here, stays under T_time (issue 9).
     const bool checkpoints = counters_.images_processed % options_.memory.checkpoint_interval == 0;
-    const double elapsed_ms = iteration.ElapsedMs() + (checkpoints ? last_checkpoint_ms_ : 0);
-    trigger.time_exceeded = TimeExceeded(elapsed_ms, 0, limit, options_.memory.time_target);
+    const double elapsed_ms = iteration.ElapsedMs();
+    const double remaining_ms = checkpoints ? last_checkpoint_ms_ : 0;
+    trigger.time_exceeded =
+        TimeExceeded(elapsed_ms, remaining_ms, limit, options_.memory.time_target);
     if (trigger.time_exceeded) {
       const StageTimes& times = result.times;
       trigger.min_locations = LocationsOverTime(
-          elapsed_ms, times.likelihood_ms + times.filter_ms + times.selection_ms,
+          elapsed_ms + remaining_ms, times.likelihood_ms + times.filter_ms + times.selection_ms,
           options_.memory.time_target * limit, static_cast<int>(memory_.working_memory().size()),
           options_.memory.transfer_max_fraction);
     }
