@@ -89,6 +89,18 @@ struct MemoryOptions {
   int max_dictionary_words = 0;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
+  // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
+  // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
+  // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose
+  // whole neighbourhood left WM can still be recognized. 0: only the highest hypothesis'
+  // neighbours are retrieved (the paper, III-E).
+  int appearance_retrieval = 1;
+  // Entries of the fixed vocabulary that describes locations for retrieval by appearance: the
+  // dictionary's first words, copied as they are created.
+  int appearance_vocabulary = 8192;
+  // How far (standard deviations over LTM's scores) the best LTM location must stand out to be
+  // retrieved by appearance.
+  double appearance_min_z = 8.0;
   // 1: the highest hypothesis' WM neighbourhood (with the locations retrieved for it) is
   // transferred only after every other WM location (memloop); 0: by weight and age like any
   // other (the paper).

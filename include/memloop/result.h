@@ -56,7 +56,12 @@ struct Result {
   // Images of the matched location: the one that created it first.
   std::vector<ImageIndex> loop_closure_images;
 
-  std::vector<LocationId> retrieved_ids;    // LTM -> WM this iteration
+  std::vector<LocationId> retrieved_ids;  // LTM -> WM this iteration
+  // Retrieval by appearance (memory.appearance_retrieval): the LTM location that looks most like
+  // the image and how far its score stands out of LTM's (standard deviations); kNoLocation when
+  // none was searched or none shares anything with the image.
+  LocationId appearance_match_id = kNoLocation;
+  double appearance_match_z = 0;
   std::vector<LocationId> transferred_ids;  // WM -> LTM this iteration
 
   int stm_size = 0;         // locations

@@ -136,13 +136,35 @@ void CheckFilter(const Memory& memory, const BayesFilter& filter, Problems& prob
   }
 }
 
+// Retrieval by appearance searches exactly the described LTM locations (locations of a map made
+// before descriptions, or with retrieval by appearance off, have none).
+void CheckAppearance(const Memory& memory, const LongTermMemory& ltm,
+                     const AppearanceIndex& appearance, Problems& problems) {
+  for (const auto& [id, location] : memory.locations()) {
+    if (appearance.Searched(id)) problems.Add(Name(id) + " is in memory but searched in LTM");
+  }
+  size_t searched_in_ltm = 0;
+  for (LocationId id : ltm.ids()) {
+    if (appearance.Searched(id)) {
+      ++searched_in_ltm;
+    } else if (appearance.Find(id) != nullptr) {
+      problems.Add("LTM " + Name(id) + " is described but not searched");
+    }
+  }
+  if (searched_in_ltm != appearance.searched_size()) {
+    problems.Add("the appearance index searches " + std::to_string(appearance.searched_size()) +
+                 " locations, " + std::to_string(searched_in_ltm) + " of them in LTM");
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& ltm,
                                           const BayesFilter& filter,
                                           const std::vector<PastMatch>& past_matches,
-                                          size_t max_problems) {
+                                          const AppearanceIndex* appearance, size_t max_problems) {
   Problems problems(max_problems);
+  if (appearance != nullptr) CheckAppearance(memory, ltm, *appearance, problems);
   CheckMemory(memory, problems);
   CheckWords(memory, problems);
   CheckFilter(memory, filter, problems);

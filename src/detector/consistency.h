@@ -13,10 +13,12 @@
 
 namespace memloop {
 
-// Returns one line per violation (at most `max_problems`); empty when consistent.
+// Returns one line per violation (at most `max_problems`); empty when consistent. `appearance`:
+// retrieval by appearance's index, null when off.
 std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& ltm,
                                           const BayesFilter& filter,
                                           const std::vector<PastMatch>& past_matches,
+                                          const AppearanceIndex* appearance = nullptr,
                                           size_t max_problems = 20);
 
 }  // namespace memloop

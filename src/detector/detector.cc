@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "detector/appearance_retrieval.h"
 #include "detector/bayes_filter.h"
 #include "detector/checkpoint.h"
 #include "detector/consistency.h"
@@ -19,6 +20,7 @@
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
 #include "storage/long_term_memory.h"
+#include "vocabulary/appearance_index.h"
 
 namespace memloop {
 namespace {
@@ -99,6 +101,14 @@ DictionaryOptions DictionaryOptionsOf(const Options& options) {
   return dictionary;
 }
 
+std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
+                                                     const FeatureExtractor& extractor) {
+  if (!options.memory.appearance_retrieval) return nullptr;
+  return std::make_unique<AppearanceIndex>(extractor.Kind(), extractor.DescriptorDim(),
+                                           options.memory.appearance_vocabulary,
+                                           options.dictionary);
+}
+
 }  // namespace
 
 Options ReadMapOptions(const std::string& path) {
@@ -116,7 +126,8 @@ class Detector::Impl {
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
         ltm_(database_path, FileMode(mode)),
-        editor_(memory_, ltm_, filter_) {
+        appearance_(MakeAppearanceIndex(options_, *extractor_)),
+        editor_(memory_, ltm_, filter_, appearance_.get()) {
     if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before
     if (localizing_) {
       MoveStmToWm();
@@ -149,7 +160,8 @@ class Detector::Impl {
   long long images_processed() const { return counters_.images_processed; }
   void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
   std::vector<std::string> CheckConsistency() {
-    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches());
+    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches(),
+                                     appearance_.get());
   }
 
   // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map,
@@ -184,7 +196,7 @@ class Detector::Impl {
     const Hypothesis hypothesis =
         SelectLoopClosure(z_t, likelihood, neighbourhoods, result);  // III-D
     CloseLoop(t, hypothesis, neighbourhoods, result);                // III-D
-    RetrieveNeighbours(hypothesis, result);                          // III-E
+    RetrieveFromLtm(hypothesis, DescriptionOf(t), result);           // III-E
     TransferToLtm(iteration, hypothesis, result);                    // III-F
     Checkpoint(result);
     Summarize(t, z_t, iteration, result);
@@ -198,12 +210,13 @@ class Detector::Impl {
   Result Localize(const cv::Mat& gray, ImageIndex image_index) {
     Stopwatch iteration;
     Result result = StartIteration(image_index);
-    const Signature z_t = MatchImage(gray, result);                          // III-A
+    Appearance appearance;
+    const Signature z_t = MatchImage(gray, result, &appearance);             // III-A
     const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
     const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
     const Hypothesis hypothesis =
         SelectLoopClosure(z_t, likelihood, neighbourhoods, result);  // III-D
-    RetrieveNeighbours(hypothesis, result);                          // III-E
+    RetrieveFromLtm(hypothesis, &appearance, result);                // III-E
     TransferToLtm(iteration, hypothesis, result);                    // III-F
     Summarize(kNoLocation, z_t, iteration, result);
     return result;
@@ -251,6 +264,7 @@ class Detector::Impl {
                           std::string("cannot resume: the map is damaged (") + error.what() + ")");
     }
     for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
+    if (appearance_) ReloadAppearance(database, memory_, ltm_, *appearance_);
     filter_.Reload(std::move(state.posterior), state.virtual_place);
     editor_.SetPastMatches(std::move(state.past_matches));
     counters_ = state.counters;
@@ -289,10 +303,15 @@ class Detector::Impl {
   }
 
   // Localization's III-A: the image's features as words of the dictionary, none created.
-  Signature MatchImage(const cv::Mat& gray, Result& result) {
+  // With retrieval by appearance, `appearance` receives the image's description.
+  Signature MatchImage(const cv::Mat& gray, Result& result, Appearance* appearance) {
     ScopedTimer timer(&result.times.signature_ms);
     const Features features = extractor_->Extract(gray);
     result.feature_count = static_cast<int>(features.keypoints.size());
+    if (appearance_) {
+      *appearance = appearance_->Describe(std::vector<WordId>(features.keypoints.size(), kNoWord),
+                                          features.descriptors);
+    }
     return MatchSignature(features, memory_.dictionary());
   }
 
@@ -300,12 +319,28 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.signature_ms);
     const Features features = extractor_->Extract(gray);
     int new_words = 0;
+    const WordId first_new_word = memory_.dictionary().next_word_id();
     Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    Appearance appearance = Describe(signature, features.descriptors, first_new_word);
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
     counters_.newest_location = location.id;
     result.feature_count = static_cast<int>(features.keypoints.size());
+    if (appearance_) {
+      ltm_.StoreAppearance(location.id, appearance);
+      appearance_->Add(location.id, std::move(appearance));
+    }
     return location.id;
+  }
+
+  Appearance Describe(const Signature& signature, const cv::Mat& descriptors,
+                      WordId first_new_word) {
+    if (!appearance_) return {};
+    return DescribeNewLocation(*appearance_, ltm_, signature, descriptors, first_new_word);
+  }
+
+  const Appearance* DescriptionOf(LocationId id) const {
+    return appearance_ ? appearance_->Find(id) : nullptr;
   }
 
   void Rehearse(LocationId t, Result& result) {
@@ -402,13 +437,29 @@ class Detector::Impl {
     editor_.AbsorbPastMatches(near_highest);
   }
 
-  void RetrieveNeighbours(const Hypothesis& hypothesis, Result& result) {
+  // III-E: the highest hypothesis' LTM neighbours; then, with retrieval by appearance, the LTM
+  // location that looks most like the image (`appearance`) and its neighbours, when it stands out.
+  void RetrieveFromLtm(const Hypothesis& hypothesis, const Appearance* appearance, Result& result) {
     ScopedTimer timer(&result.times.retrieval_ms);
-    const RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved,
-                                              options_.filter.neighbour_range, memory_, ltm_);
-    result.retrieved_ids = outcome.retrieved;
-    for (LocationId id : outcome.retrieved) filter_.Add(id);  // a new state, probability 0
-    retrieved_this_iteration_.insert(outcome.retrieved.begin(), outcome.retrieved.end());
+    const int range = options_.filter.neighbour_range;
+    std::vector<LocationId> retrieved =
+        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_).retrieved;
+    if (appearance_ && appearance != nullptr) {
+      const AppearanceMatch match = appearance_->Best(*appearance);
+      result.appearance_match_id = match.id;
+      result.appearance_match_z = match.z;
+      if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
+        const RetrievalOutcome outcome =
+            Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_);
+        retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
+      }
+    }
+    for (LocationId id : retrieved) {
+      filter_.Add(id);  // a new state, probability 0
+      if (appearance_) appearance_->Leave(id);
+    }
+    result.retrieved_ids = retrieved;
+    retrieved_this_iteration_.insert(retrieved.begin(), retrieved.end());
   }
 
   void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
@@ -472,6 +523,7 @@ class Detector::Impl {
   Memory memory_;
   BayesFilter filter_;
   LongTermMemory ltm_;
+  std::unique_ptr<AppearanceIndex> appearance_;  // null without retrieval by appearance
   MapEditor editor_;
   DetectorCounters counters_;
   CheckpointWriter checkpoints_;

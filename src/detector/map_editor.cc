@@ -4,8 +4,9 @@
 
 namespace memloop {
 
-MapEditor::MapEditor(Memory& memory, LongTermMemory& ltm, BayesFilter& filter)
-    : memory_(memory), ltm_(ltm), filter_(filter) {}
+MapEditor::MapEditor(Memory& memory, LongTermMemory& ltm, BayesFilter& filter,
+                     AppearanceIndex* appearance)
+    : memory_(memory), ltm_(ltm), filter_(filter), appearance_(appearance) {}
 
 void MapEditor::ReleaseWords(const std::vector<WordId>& orphans) {
   Dictionary& dictionary = memory_.dictionary();
@@ -32,6 +33,7 @@ void MapEditor::Merge(LocationId survivor, LocationId absorbed) {
   ReleaseWords(memory_.Absorb(survivor, absorbed));
   ltm_.RedirectLocation(absorbed, survivor);
   filter_.Remove(absorbed);
+  if (appearance_ != nullptr) appearance_->Erase(absorbed);
   for (PastMatch& match : past_matches_) {
     if (match.matcher == absorbed) match.matcher = survivor;
     if (match.matched == absorbed || match.matched == match.matcher) match.matched = kNoLocation;
@@ -61,6 +63,7 @@ void MapEditor::TransferToLtm(LocationId id) {
   ReleaseWords(orphans);
   ltm_.Store(location);
   filter_.Remove(id);
+  if (appearance_ != nullptr) appearance_->Enter(id);
 }
 
 }  // namespace memloop

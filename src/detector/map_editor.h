@@ -16,6 +16,7 @@
 #include "detector/bayes_filter.h"
 #include "detector/memory.h"
 #include "storage/long_term_memory.h"
+#include "vocabulary/appearance_index.h"
 
 namespace memloop {
 
@@ -27,7 +28,9 @@ struct PastMatch {
 
 class MapEditor {
  public:
-  MapEditor(Memory& memory, LongTermMemory& ltm, BayesFilter& filter);
+  // `appearance` (retrieval by appearance; null when off) searches exactly the LTM locations.
+  MapEditor(Memory& memory, LongTermMemory& ltm, BayesFilter& filter,
+            AppearanceIndex* appearance = nullptr);
 
   // III-D: L_t takes L_i's links (neighbours and loop closures) and a loop-closure link to L_i,
   // both ways, in LTM too. L_i then waits to be absorbed into L_t (AbsorbPastMatches).
@@ -61,6 +64,7 @@ class MapEditor {
   Memory& memory_;
   LongTermMemory& ltm_;
   BayesFilter& filter_;
+  AppearanceIndex* appearance_;
   std::vector<PastMatch> past_matches_;
 };
 

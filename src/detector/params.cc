@@ -100,6 +100,12 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
+    Param("memory.appearance_retrieval", MEMLOOP_FIELD(memory.appearance_retrieval)).Flag()
+        .Help("true: the LTM location that looks most like the image is retrieved with its neighbours when it stands out (false = only the highest hypothesis' neighbours, the paper)"),
+    Param("memory.appearance_vocabulary", MEMLOOP_FIELD(memory.appearance_vocabulary)).Unit("words")
+        .Range(16, 1000000).Help("Entries of the fixed vocabulary (the dictionary's first words) that describes locations for retrieval by appearance"),
+    Param("memory.appearance_min_z", MEMLOOP_FIELD(memory.appearance_min_z)).Range(0, 1000)
+        .Help("Standard deviations above LTM's mean score the best LTM location needs to be retrieved by appearance"),
     Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Flag()
         .Help("true: the highest hypothesis' neighbourhood leaves WM after every other location (false = by weight and age, the paper)"),
     Param("memory.localization", MEMLOOP_FIELD(memory.localization)).Flag()
@@ -163,6 +169,7 @@ bool ParseDouble(const std::string& text, double* value) {
 }  // namespace
 
 bool Parameter::DefinesMap() const {
+  if (key == "memory.appearance_vocabulary") return true;  // the locations' descriptions
   for (const char* group : {"features.", "surf.", "sift.", "orb.", "dictionary."}) {
     if (key.rfind(group, 0) == 0) return true;
   }

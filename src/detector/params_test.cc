@@ -55,7 +55,8 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
             (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
                                    "filter.loop_threshold", "filter.hypothesis_value",
                                    "filter.require_support", "memory.time_target",
-                                   "memory.transfer_max_fraction", "sift.upright", "orb.upright"}));
+                                   "memory.transfer_max_fraction", "sift.upright", "orb.upright",
+                                   "memory.appearance_retrieval"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

@@ -10,6 +10,7 @@ Options Options::Paper2011() {
   options.features.orb_upright = 0;
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
+  options.memory.appearance_retrieval = 0;
   options.memory.time_target = 1.0;
   options.memory.transfer_max_fraction = 0;
   options.filter.hypothesis_value = "neighbours";

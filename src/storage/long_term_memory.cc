@@ -102,6 +102,10 @@ void LongTermMemory::Enqueue(Operation operation) {
     bytes += word->descriptor.size();
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
     bytes += checkpoint->bytes();
+  } else if (const auto* appearance = std::get_if<AppearanceOp>(&operation)) {
+    bytes += appearance->entries.size() * sizeof(uint32_t);
+  } else if (const auto* vocabulary = std::get_if<VocabularyOp>(&operation)) {
+    bytes += vocabulary->rows.size();
   }
   if (read_only_) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -152,6 +156,15 @@ void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) 
 }
 
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
+
+void LongTermMemory::StoreAppearance(LocationId id, std::vector<uint32_t> entries) {
+  Enqueue(AppearanceOp{id, std::move(entries)});
+}
+
+void LongTermMemory::StoreAppearanceVocabulary(int first_entry, std::vector<WordId> words,
+                                               std::vector<unsigned char> rows) {
+  Enqueue(VocabularyOp{first_entry, std::move(words), std::move(rows)});
+}
 
 void LongTermMemory::WriteInfo(const std::string& key, const std::string& value) {
   Enqueue(InfoOp{key, value});
@@ -290,6 +303,11 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
     database.WriteInfo(info->key, info->value);
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
     database.WriteCheckpoint(*checkpoint);
+  } else if (const auto* appearance = std::get_if<AppearanceOp>(&operation)) {
+    database.WriteAppearance(appearance->id, appearance->entries);
+  } else if (const auto* vocabulary = std::get_if<VocabularyOp>(&operation)) {
+    database.WriteAppearanceVocabulary(vocabulary->first_entry, vocabulary->words,
+                                       vocabulary->rows);
   }
 }
 

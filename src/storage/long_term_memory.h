@@ -69,6 +69,11 @@ class LongTermMemory {
   // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
   void AddLink(LocationId from, LocationId to, bool loop_closure);
   void RecordLoopClosure(const LoopClosureRecord& record);
+  // Retrieval by appearance: a new location's description, and new vocabulary entries from
+  // `first_entry` on (rows: their descriptors, one after the other). Kept in the file for resuming.
+  void StoreAppearance(LocationId id, std::vector<uint32_t> entries);
+  void StoreAppearanceVocabulary(int first_entry, std::vector<WordId> words,
+                                 std::vector<unsigned char> rows);
   void WriteInfo(const std::string& key, const std::string& value);
 
   // A resume checkpoint (checkpoint.h). From the first one on, the writer commits only whole
@@ -115,8 +120,18 @@ class LongTermMemory {
     std::string key;
     std::string value;
   };
-  using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
-                                 LoopClosureRecord, InfoOp, CheckpointData>;
+  struct AppearanceOp {
+    LocationId id;
+    std::vector<uint32_t> entries;
+  };
+  struct VocabularyOp {
+    int first_entry;
+    std::vector<WordId> words;
+    std::vector<unsigned char> rows;
+  };
+  using Operation =
+      std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
+                   LoopClosureRecord, InfoOp, CheckpointData, AppearanceOp, VocabularyOp>;
   struct Queued {
     long long sequence;
     size_t bytes;

@@ -121,6 +121,68 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
       "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
       "PRAGMA foreign_keys=OFF;");
   if (mode == Mode::kCreate) CreateSchema();
+  CreateAppearanceTables();
+}
+
+void LtmDatabase::CreateAppearanceTables() {
+  connection_.Execute(
+      "CREATE TABLE IF NOT EXISTS appearances(location_id INTEGER PRIMARY KEY,"
+      " entries BLOB NOT NULL);"
+      "CREATE TABLE IF NOT EXISTS appearance_vocabulary(entry INTEGER PRIMARY KEY,"
+      " word_id INTEGER NOT NULL, descriptor BLOB NOT NULL);");
+}
+
+void LtmDatabase::WriteAppearance(LocationId id, const std::vector<uint32_t>& entries) {
+  Cached("INSERT OR REPLACE INTO appearances(location_id, entries) VALUES(?,?)")
+      .Bind(1, static_cast<long long>(id))
+      .BindBlob(2, entries.data(), static_cast<int>(entries.size() * sizeof(uint32_t)))
+      .Run();
+}
+
+void LtmDatabase::WriteAppearanceVocabulary(int first_entry, const std::vector<WordId>& words,
+                                            const std::vector<unsigned char>& rows) {
+  if (words.empty()) return;
+  const size_t row_bytes = rows.size() / words.size();
+  auto& insert = Cached(
+      "INSERT OR REPLACE INTO appearance_vocabulary(entry, word_id, descriptor) VALUES(?,?,?)");
+  for (size_t i = 0; i < words.size(); ++i) {
+    insert.Bind(1, static_cast<long long>(first_entry + i))
+        .Bind(2, static_cast<long long>(words[i]))
+        .BindBlob(3, rows.data() + i * row_bytes, static_cast<int>(row_bytes))
+        .Run();
+  }
+}
+
+std::vector<std::pair<LocationId, std::vector<uint32_t>>> LtmDatabase::ReadAppearances() {
+  std::vector<std::pair<LocationId, std::vector<uint32_t>>> rows;
+  if (!HasTable("appearances")) return rows;  // a read-only map made before the table
+  auto& query = Cached("SELECT location_id, entries FROM appearances ORDER BY location_id");
+  while (query.Step()) {
+    const std::vector<unsigned char> blob = query.Blob(1);
+    std::vector<uint32_t> entries(blob.size() / sizeof(uint32_t));
+    if (!entries.empty())
+      std::memcpy(entries.data(), blob.data(), entries.size() * sizeof(uint32_t));
+    rows.emplace_back(static_cast<LocationId>(query.Int(0)), std::move(entries));
+  }
+  query.Reset();
+  return rows;
+}
+
+std::vector<std::pair<WordId, std::vector<unsigned char>>> LtmDatabase::ReadAppearanceVocabulary() {
+  std::vector<std::pair<WordId, std::vector<unsigned char>>> rows;
+  if (!HasTable("appearance_vocabulary")) return rows;
+  auto& query = Cached("SELECT word_id, descriptor FROM appearance_vocabulary ORDER BY entry");
+  while (query.Step()) rows.emplace_back(static_cast<WordId>(query.Int(0)), query.Blob(1));
+  query.Reset();
+  return rows;
+}
+
+bool LtmDatabase::HasTable(const std::string& name) {
+  auto& query = Cached("SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
+  query.Bind(1, name);
+  const bool found = query.Step() && query.Int(0) > 0;
+  query.Reset();
+  return found;
 }
 
 void LtmDatabase::CreateSchema() {
@@ -234,7 +296,8 @@ void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
   for (const char* sql :
        {"DELETE FROM links WHERE to_id=? OR from_id=?1", "DELETE FROM locations WHERE id=?",
         "DELETE FROM location_images WHERE location_id=?",
-        "DELETE FROM signature_words WHERE location_id=?"}) {
+        "DELETE FROM signature_words WHERE location_id=?",
+        "DELETE FROM appearances WHERE location_id=?"}) {
     Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
   }
   // A survivor linked to itself through the redirection keeps no such link.

@@ -4,6 +4,7 @@
 // One object per connection and thread.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -75,6 +76,12 @@ class LtmDatabase {
   void WriteLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
   void WriteCheckpoint(const CheckpointData& checkpoint);
+  // Retrieval by appearance (appearance_index.h): a location's description, and vocabulary
+  // entries from `first_entry` on (their words and descriptor rows, `row_bytes` each). Maps made
+  // before these tables get them when opened to write; read-only, they read as empty.
+  void WriteAppearance(LocationId id, const std::vector<uint32_t>& entries);
+  void WriteAppearanceVocabulary(int first_entry, const std::vector<WordId>& words,
+                                 const std::vector<unsigned char>& rows);
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
@@ -91,6 +98,9 @@ class LtmDatabase {
   std::vector<std::pair<LocationId, std::vector<unsigned char>>> ReadMemoryLocations();
   std::vector<CheckpointData::Point> ReadIndexPoints();
   std::optional<std::vector<unsigned char>> ReadState(const std::string& key);
+  // Every description, by location id; the vocabulary as (word, descriptor row) in entry order.
+  std::vector<std::pair<LocationId, std::vector<uint32_t>>> ReadAppearances();
+  std::vector<std::pair<WordId, std::vector<unsigned char>>> ReadAppearanceVocabulary();
   int format_version() const { return format_version_; }
   long long CountLocations();
   long long CountWords();
@@ -101,6 +111,8 @@ class LtmDatabase {
   // The checks above; returns the map's format version (kFormatVersion for a new file).
   static int CheckMapFile(const std::string& path, Mode mode);
   void CreateSchema();
+  void CreateAppearanceTables();
+  bool HasTable(const std::string& name);
   SqliteStatement& Cached(const std::string& sql);
 
   // The format version is also an info row, so that a damaged header is told from a newer map.

@@ -1,0 +1,160 @@
+#include "vocabulary/appearance_index.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+
+AppearanceIndex::AppearanceIndex(DescriptorKind kind, int descriptor_dim, int vocabulary_size,
+                                 const DictionaryOptions& index_options)
+    : kind_(kind),
+      descriptor_dim_(descriptor_dim),
+      vocabulary_size_(vocabulary_size),
+      index_options_(index_options),
+      postings_(static_cast<size_t>(std::max(vocabulary_size, 0))) {
+  index_options_.rebuild_delay = 0;  // built once, when frozen, in the calling thread
+  // A coarse quantizer: one tree and few checks cost a third of the dictionary's search, and a
+  // near-nearest entry describes a place as well.
+  index_options_.kd_trees = 1;
+  index_options_.kd_checks = 16;
+  index_options_.rebuild_swap_when_ready = false;
+}
+
+int AppearanceIndex::CollectWords(const std::vector<WordId>& ids, const cv::Mat& descriptors) {
+  int collected = 0;
+  for (size_t row = 0; row < ids.size() && !frozen_; ++row) {
+    if (entry_of_word_.count(ids[row]) > 0) continue;
+    entry_of_word_[ids[row]] = static_cast<AppearanceEntry>(vocabulary_words_.size());
+    vocabulary_words_.push_back(ids[row]);
+    vocabulary_.push_back(descriptors.row(static_cast<int>(row)));
+    ++collected;
+    if (static_cast<int>(vocabulary_words_.size()) >= vocabulary_size_) Freeze();
+  }
+  return collected;
+}
+
+void AppearanceIndex::Freeze() {
+  frozen_ = true;
+  search_ = WordIndex::Create(kind_, descriptor_dim_, index_options_);
+  std::vector<WordId> ids(vocabulary_words_.size());
+  for (size_t entry = 0; entry < ids.size(); ++entry) ids[entry] = static_cast<WordId>(entry + 1);
+  search_->Add(ids, vocabulary_);
+}
+
+void AppearanceIndex::Reload(const std::vector<WordId>& words, const cv::Mat& rows) {
+  const int cv_type = kind_ == DescriptorKind::kFloat ? CV_32F : CV_8U;
+  if (static_cast<int>(words.size()) != rows.rows ||
+      static_cast<int>(words.size()) > vocabulary_size_ ||
+      (rows.rows > 0 && (rows.cols != descriptor_dim_ || rows.type() != cv_type))) {
+    throw Error("the appearance vocabulary does not match its words or the features");
+  }
+  vocabulary_words_.clear();
+  vocabulary_ = cv::Mat();
+  entry_of_word_.clear();
+  frozen_ = false;
+  search_.reset();
+  for (LocationId id : std::vector<LocationId>(searched_.begin(), searched_.end())) Leave(id);
+  appearances_.clear();
+  if (CollectWords(words, rows) != rows.rows)
+    throw Error("the appearance vocabulary repeats a word");
+}
+
+Appearance AppearanceIndex::Describe(const std::vector<WordId>& words,
+                                     const cv::Mat& descriptors) const {
+  Appearance appearance;
+  if (frozen_) {
+    if (descriptors.rows == 0) return appearance;
+    for (const auto& nearest : search_->Search(descriptors)) {
+      if (nearest[0].word != kNoWord) appearance.push_back(nearest[0].word - 1);
+    }
+  } else {
+    for (WordId word : words) {
+      const auto entry = entry_of_word_.find(word);
+      if (entry != entry_of_word_.end()) appearance.push_back(entry->second);
+    }
+  }
+  std::sort(appearance.begin(), appearance.end());
+  appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
+  return appearance;
+}
+
+void AppearanceIndex::Add(LocationId id, Appearance appearance) {
+  for (AppearanceEntry entry : appearance) {
+    if (entry >= postings_.size()) {
+      throw Error("location " + std::to_string(id) + " is described by entry " +
+                  std::to_string(entry) + ", out of the appearance vocabulary");
+    }
+  }
+  const bool searched = Searched(id);
+  if (searched) Leave(id);
+  appearances_[id] = std::move(appearance);
+  if (searched) Enter(id);
+}
+
+void AppearanceIndex::Erase(LocationId id) {
+  Leave(id);
+  appearances_.erase(id);
+}
+
+const Appearance* AppearanceIndex::Find(LocationId id) const {
+  const auto found = appearances_.find(id);
+  return found == appearances_.end() ? nullptr : &found->second;
+}
+
+void AppearanceIndex::Enter(LocationId id) {
+  const Appearance* appearance = Find(id);
+  if (appearance == nullptr || !searched_.insert(id).second) return;
+  for (AppearanceEntry entry : *appearance) postings_[entry].push_back(id);
+}
+
+void AppearanceIndex::Leave(LocationId id) {
+  if (searched_.erase(id) == 0) return;
+  for (AppearanceEntry entry : appearances_.at(id)) {
+    std::vector<LocationId>& posting = postings_[entry];
+    const auto found = std::find(posting.begin(), posting.end(), id);
+    *found = posting.back();  // posting order does not matter: scores are summed per location
+    posting.pop_back();
+  }
+}
+
+AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
+  AppearanceMatch best;
+  const double searched = static_cast<double>(searched_.size());
+  if (query.empty() || searched == 0) return best;
+  std::vector<LocationId> touched;
+  for (AppearanceEntry entry : query) {
+    const std::vector<LocationId>& posting = postings_[entry];
+    if (posting.empty() || 2.0 * static_cast<double>(posting.size()) > searched) continue;
+    const double idf = std::log(searched / static_cast<double>(posting.size()));
+    for (LocationId id : posting) {
+      const auto slot = static_cast<size_t>(id);
+      if (slot >= scores_.size()) scores_.resize(std::max(slot + 1, 2 * scores_.size()), 0.0);
+      if (scores_[id] == 0) touched.push_back(id);
+      scores_[id] += idf;
+    }
+  }
+  // Summed in id order, so that a resumed map (its postings in another order) gives the same z.
+  std::sort(touched.begin(), touched.end());
+  double sum = 0, sum_squares = 0;
+  for (LocationId id : touched) {
+    const double score = scores_[id] / std::sqrt(static_cast<double>(query.size()) *
+                                                 static_cast<double>(appearances_.at(id).size()));
+    scores_[id] = 0;
+    sum += score;
+    sum_squares += score * score;
+    if (score > best.score || (score == best.score && id < best.id)) {
+      best.id = id;
+      best.score = score;
+    }
+  }
+  if (best.id == kNoLocation) return best;
+  const double mean = sum / searched;  // locations sharing no entry score 0
+  const double variance = std::max(0.0, sum_squares / searched - mean * mean);
+  best.z = variance > 0 ? (best.score - mean) / std::sqrt(variance) : 0;
+  return best;
+}
+
+}  // namespace memloop

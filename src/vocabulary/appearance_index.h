@@ -1,0 +1,98 @@
+// Appearance retrieval's index (memloop, beyond the paper; docs/design.md, "Retrieval by
+// appearance"). Retrieval (III-E) brings back only the neighbours of the highest hypothesis, which
+// is in WM: a place whose whole neighbourhood left WM can never come back that way. This index
+// finds the LTM locations that look like the current image instead.
+//
+// The dictionary's words cannot serve: those of LTM-only locations have left it, and a new image
+// of an old place makes new words. So every location is also described over a small vocabulary
+// that never changes: the dictionary's first `vocabulary_size` words, copied as they are created.
+// A description is the set of vocabulary entries nearest to the location's features; an
+// inverted index over the descriptions scores locations by the idf-weighted entries they share
+// with the image. RAM: about 4 bytes per distinct entry of a location (~1 KB each).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "memloop/options.h"
+#include "memloop/types.h"
+#include "vocabulary/word_index.h"
+
+namespace memloop {
+
+using AppearanceEntry = uint32_t;
+// Sorted, distinct vocabulary entries.
+using Appearance = std::vector<AppearanceEntry>;
+
+struct AppearanceMatch {
+  LocationId id = kNoLocation;
+  double score = 0;  // idf-weighted shared entries over sqrt(|query| |location|)
+  // How far the best score stands above the scores of all candidates (untouched ones score 0):
+  // (score - mean) / standard deviation. 0 when there is no candidate.
+  double z = 0;
+};
+
+class AppearanceIndex {
+ public:
+  // `index_options` configures the search over the vocabulary (as the dictionary's).
+  AppearanceIndex(DescriptorKind kind, int descriptor_dim, int vocabulary_size,
+                  const DictionaryOptions& index_options);
+
+  // New words of the dictionary, in creation order: the first `vocabulary_size` become the
+  // vocabulary, which is then frozen. Returns how many rows joined it (the first ones).
+  int CollectWords(const std::vector<WordId>& ids, const cv::Mat& descriptors);
+  bool frozen() const { return frozen_; }
+  int vocabulary_size() const { return vocabulary_size_; }
+
+  // The description of features whose descriptor rows are `descriptors`, row i quantized by the
+  // dictionary to `words[i]` (kNoWord: none). Once the vocabulary is frozen each row goes to its
+  // nearest entry; before, only rows whose word is an entry count (an entry is its word).
+  Appearance Describe(const std::vector<WordId>& words, const cv::Mat& descriptors) const;
+
+  // Every location's description is kept (Add, replacing; Erase); only those entered are
+  // searched (the detector enters the locations of LTM). Add throws Error for an entry out of the
+  // vocabulary (a damaged map).
+  void Add(LocationId id, Appearance appearance);
+  void Erase(LocationId id);
+  const Appearance* Find(LocationId id) const;
+  size_t size() const { return appearances_.size(); }
+  void Enter(LocationId id);
+  void Leave(LocationId id);
+  bool Searched(LocationId id) const { return searched_.count(id) > 0; }
+  size_t searched_size() const { return searched_.size(); }
+
+  // The searched location that scores best against `query` (ties: the oldest), and how far it
+  // stands out. Entries held by more than half the searched locations are ignored.
+  AppearanceMatch Best(const Appearance& query) const;
+
+  // The vocabulary collected so far: its words and descriptor rows, in entry order.
+  const std::vector<WordId>& vocabulary_words() const { return vocabulary_words_; }
+  const cv::Mat& vocabulary() const { return vocabulary_; }
+  // Resuming: the vocabulary as collected (frozen when complete), and no description. Throws
+  // Error when the rows do not fit the words or the features.
+  void Reload(const std::vector<WordId>& words, const cv::Mat& rows);
+
+ private:
+  void Freeze();
+
+  DescriptorKind kind_;
+  int descriptor_dim_;
+  int vocabulary_size_;
+  DictionaryOptions index_options_;
+  std::vector<WordId> vocabulary_words_;
+  cv::Mat vocabulary_;  // one row per entry
+  std::unordered_map<WordId, AppearanceEntry> entry_of_word_;
+  bool frozen_ = false;
+  std::unique_ptr<WordIndex> search_;  // over vocabulary_, once frozen
+
+  std::unordered_map<LocationId, Appearance> appearances_;
+  std::unordered_set<LocationId> searched_;
+  std::vector<std::vector<LocationId>> postings_;  // entry -> searched locations holding it
+  mutable std::vector<double> scores_;             // by location id, zero between searches
+};
+
+}  // namespace memloop

@@ -1,0 +1,109 @@
+#include "vocabulary/appearance_index.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "memloop/errors.h"
+
+namespace memloop {
+namespace {
+
+// One-hot 4-dimensional float rows: row k is the unit vector of axis k (scaled).
+cv::Mat Rows(const std::vector<int>& axes, float scale = 1.0f) {
+  cv::Mat rows = cv::Mat::zeros(static_cast<int>(axes.size()), 4, CV_32F);
+  for (size_t row = 0; row < axes.size(); ++row) rows.at<float>(static_cast<int>(row), axes[row]) = scale;
+  return rows;
+}
+
+AppearanceIndex MakeIndex(int vocabulary_size) {
+  return AppearanceIndex(DescriptorKind::kFloat, 4, vocabulary_size, DictionaryOptions{});
+}
+
+TEST(AppearanceIndexTest, VocabularyIsTheFirstWordsAndThenFrozen) {
+  AppearanceIndex index = MakeIndex(4);
+  EXPECT_EQ(index.CollectWords({10, 11, 12}, Rows({0, 1, 2})), 3);
+  EXPECT_FALSE(index.frozen());
+  // Before the freeze only words of the vocabulary describe: 11 -> entry 1, 12 -> entry 2.
+  EXPECT_EQ(index.Describe({12, 99, 11, 11}, Rows({2, 3, 1, 1})), (Appearance{1, 2}));
+  // Only the first of the next words joins: the vocabulary is then full.
+  EXPECT_EQ(index.CollectWords({13, 14}, Rows({3, 0})), 1);
+  EXPECT_TRUE(index.frozen());
+  EXPECT_EQ(index.vocabulary_words(), (std::vector<WordId>{10, 11, 12, 13}));
+  EXPECT_EQ(index.CollectWords({15}, Rows({0})), 0);
+  // Frozen: each row goes to its nearest entry, whatever its word.
+  EXPECT_EQ(index.Describe({kNoWord, kNoWord, kNoWord}, Rows({3, 0, 3}, 0.9f)),
+            (Appearance{0, 3}));
+}
+
+// Four locations over four entries, all searched: A {0,1}, B {1,2}, C {2,3}, D {3}.
+class AppearanceSearchTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    index_.CollectWords({1, 2, 3, 4}, Rows({0, 1, 2, 3}));
+    index_.Add(kA, {0, 1});
+    index_.Add(kB, {1, 2});
+    index_.Add(kC, {2, 3});
+    index_.Add(kD, {3});
+    for (LocationId id : {kA, kB, kC, kD}) index_.Enter(id);
+  }
+  static constexpr LocationId kA = 1, kB = 2, kC = 3, kD = 4;
+  AppearanceIndex index_ = MakeIndex(4);
+};
+
+TEST_F(AppearanceSearchTest, ScoresByIdfOverTheDescriptionsSizes) {
+  // Query {0, 1}: entry 0 is held by A only (idf ln 4), entry 1 by A and B (ln 2, half of the 4
+  // searched locations: still counted). A: (ln 4 + ln 2) / sqrt(2 * 2) = ln 8 / 2; B: ln 2 / 2;
+  // C and D: 0.
+  const AppearanceMatch match = index_.Best({0, 1});
+  const double a = std::log(8.0) / 2, b = std::log(2.0) / 2;
+  EXPECT_EQ(match.id, kA);
+  EXPECT_DOUBLE_EQ(match.score, a);
+  const double mean = (a + b) / 4;
+  const double deviation = std::sqrt((a * a + b * b) / 4 - mean * mean);
+  EXPECT_NEAR(match.z, (a - mean) / deviation, 1e-12);  // 1.633
+}
+
+TEST_F(AppearanceSearchTest, OnlySearchedLocationsAnswer) {
+  index_.Leave(kA);
+  EXPECT_FALSE(index_.Searched(kA));
+  EXPECT_NE(index_.Find(kA), nullptr);  // still described
+  // Three searched: entry 1 held by B only now (ln 3), entry 0 by nobody.
+  const AppearanceMatch match = index_.Best({0, 1});
+  EXPECT_EQ(match.id, kB);
+  EXPECT_DOUBLE_EQ(match.score, std::log(3.0) / 2);
+  index_.Enter(kA);
+  EXPECT_EQ(index_.Best({0, 1}).id, kA);
+  index_.Erase(kA);
+  EXPECT_EQ(index_.Find(kA), nullptr);
+  EXPECT_EQ(index_.searched_size(), 3u);
+}
+
+TEST_F(AppearanceSearchTest, CommonEntriesAreIgnoredAndTiesGoToTheOldest) {
+  // Entry 3 is held by C and D, half of the 4 searched: kept.
+  EXPECT_EQ(index_.Best({3}).id, kD);  // D: ln 2 / sqrt(1), C: ln 2 / sqrt(2)
+  EXPECT_EQ(index_.Best({2}).id, kB);  // B and C: ln 2 / sqrt(2) each: the oldest
+  index_.Leave(kA);
+  EXPECT_EQ(index_.Best({3}).id, kNoLocation);  // 2 of the 3 searched hold it
+}
+
+TEST_F(AppearanceSearchTest, NothingToFindGivesNoLocation) {
+  EXPECT_EQ(index_.Best({}).id, kNoLocation);
+  AppearanceIndex empty = MakeIndex(4);
+  EXPECT_EQ(empty.Best({0}).id, kNoLocation);
+  EXPECT_EQ(empty.Best({0}).z, 0);
+}
+
+TEST(AppearanceIndexTest, RefusesWhatADamagedMapWouldGive) {
+  AppearanceIndex index = MakeIndex(4);
+  EXPECT_THROW(index.Add(1, {4}), Error);  // entry out of the vocabulary
+  EXPECT_THROW(index.Reload({1, 2}, Rows({0})), Error);
+  EXPECT_THROW(index.Reload({1, 2, 3, 4, 5}, Rows({0, 1, 2, 3, 0})), Error);  // too many
+  EXPECT_THROW(index.Reload({1, 1}, Rows({0, 1})), Error);                    // a repeated word
+  index.Reload({1, 2, 3, 4}, Rows({0, 1, 2, 3}));
+  EXPECT_TRUE(index.frozen());
+  EXPECT_EQ(index.Describe({kNoWord}, Rows({2})), (Appearance{2}));
+}
+
+}  // namespace
+}  // namespace memloop
