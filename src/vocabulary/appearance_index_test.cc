@@ -12,7 +12,8 @@ namespace {
 // One-hot 4-dimensional float rows: row k is the unit vector of axis k (scaled).
 cv::Mat Rows(const std::vector<int>& axes, float scale = 1.0f) {
   cv::Mat rows = cv::Mat::zeros(static_cast<int>(axes.size()), 4, CV_32F);
-  for (size_t row = 0; row < axes.size(); ++row) rows.at<float>(static_cast<int>(row), axes[row]) = scale;
+  for (size_t row = 0; row < axes.size(); ++row)
+    rows.at<float>(static_cast<int>(row), axes[row]) = scale;
   return rows;
 }
 
@@ -32,8 +33,7 @@ TEST(AppearanceIndexTest, VocabularyIsTheFirstWordsAndThenFrozen) {
   EXPECT_EQ(index.vocabulary_words(), (std::vector<WordId>{10, 11, 12, 13}));
   EXPECT_EQ(index.CollectWords({15}, Rows({0})), 0);
   // Frozen: each row goes to its nearest entry, whatever its word.
-  EXPECT_EQ(index.Describe({kNoWord, kNoWord, kNoWord}, Rows({3, 0, 3}, 0.9f)),
-            (Appearance{0, 3}));
+  EXPECT_EQ(index.Describe({kNoWord, kNoWord, kNoWord}, Rows({3, 0, 3}, 0.9f)), (Appearance{0, 3}));
 }
 
 // Four locations over four entries, all searched: A {0,1}, B {1,2}, C {2,3}, D {3}.

@@ -10,8 +10,8 @@ int main(int argc, char** argv) {
   memloop::Detector detector(options, argv[1]);
   cv::Mat image(240, 320, CV_8UC1);
   cv::randu(image, 0, 256);
-  std::cout << memloop::Parameters().size() << " parameters; "
-            << detector.Process(image, 0).Brief() << "\n";
+  std::cout << memloop::Parameters().size() << " parameters; " << detector.Process(image, 0).Brief()
+            << "\n";
   detector.Close();
   return 0;
 }
