@@ -89,6 +89,11 @@ struct MemoryOptions {
   int max_dictionary_words = 0;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
+  // 1 (with T_time on): a location is retrieved only when the iteration, with its expected
+  // retrieval time and the checkpoint after it, still ends under T_time; the others wait for a
+  // later iteration (memloop, issue 9: re-matching one location's words costs about as much as
+  // quantizing an image). 0: up to max_retrieved whatever the time (the paper).
+  int retrieval_within_time = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose

@@ -57,6 +57,8 @@ struct Result {
   std::vector<ImageIndex> loop_closure_images;
 
   std::vector<LocationId> retrieved_ids;  // LTM -> WM this iteration
+  // Retrievals left for a later iteration: with T_time on, no time was left for them.
+  int retrievals_deferred = 0;
   // Retrieval by appearance (memory.appearance_retrieval): the LTM location that looks most like
   // the image and how far its score stands out of LTM's (standard deviations); kNoLocation when
   // none was searched or none shares anything with the image.

@@ -98,6 +98,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none)"),
     Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
+    Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()
+        .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
     Param("memory.appearance_retrieval", MEMLOOP_FIELD(memory.appearance_retrieval)).Flag()

@@ -56,7 +56,7 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
                                    "filter.loop_threshold", "filter.hypothesis_value",
                                    "filter.require_support", "memory.time_target",
                                    "memory.transfer_max_fraction", "sift.upright", "orb.upright",
-                                   "memory.appearance_retrieval"}));
+                                   "memory.appearance_retrieval", "memory.retrieval_within_time"}));
 }
 
 TEST(ParamsTest, PresetsByName) {
