@@ -19,8 +19,8 @@
 #include "detector/bayes_filter.h"
 #include "detector/map_editor.h"
 #include "detector/memory.h"
-#include "detector/word_bitset.h"
 #include "storage/ltm_database.h"
+#include "vocabulary/word_bitset.h"
 #include "vocabulary/word_index.h"
 
 namespace memloop {

@@ -439,14 +439,16 @@ class Detector::Impl {
 
   // III-E: the highest hypothesis' LTM neighbours; then, with retrieval by appearance, the LTM
   // location that looks most like the image (`appearance`) and its neighbours, when it stands out.
-  // With T_time on, each only if it still fits (RetrievalClock).
+  // With T_time on, each only if it still fits (memory.retrieval_within_time).
   void RetrieveFromLtm(const Stopwatch& iteration, const Hypothesis& hypothesis,
                        const Appearance* appearance, Result& result) {
     ScopedTimer timer(&result.times.retrieval_ms);
     const int range = options_.filter.neighbour_range;
-    const RetrievalClock clock = RetrievalDeadline(iteration);
+    const StepDeadline deadline = options_.memory.retrieval_within_time
+                                      ? DeadlineOf(iteration, &retrieval_cost_)
+                                      : StepDeadline();
     RetrievalOutcome outcome =
-        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_, clock);
+        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
     if (appearance_ && appearance != nullptr) {
@@ -454,7 +456,7 @@ class Detector::Impl {
       result.appearance_match_id = match.id;
       result.appearance_match_z = match.z;
       if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
-        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, clock);
+        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
         retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
         result.retrievals_deferred += outcome.deferred;
       }
@@ -474,15 +476,14 @@ class Detector::Impl {
     return checkpoints ? last_checkpoint_ms_ : 0;
   }
 
-  // T_time on (memory.retrieval_within_time): a retrieval must end, with the checkpoint after it
-  // (as last measured), under T_time. Off: no deadline, the count alone bounds retrieval. (Ending
-  // it by the time target instead halved the retrievals and left as many iterations over T_time:
-  // 3.2% vs 2.9%, 6,000 images at T_time 50 ms.)
-  RetrievalClock RetrievalDeadline(const Stopwatch& iteration) {
+  // T_time on: a retrieval or a transfer must end, with the checkpoint after it (as last
+  // measured), under T_time. Off: no deadline. (Ending retrievals by the time target instead
+  // halved them and left as many iterations over T_time: 3.2% vs 2.9%, 6,000 images at 50 ms.)
+  StepDeadline DeadlineOf(const Stopwatch& iteration, StepCost* cost) const {
     const double limit = options_.memory.time_limit_ms;
-    if (limit <= 0 || !options_.memory.retrieval_within_time) return RetrievalClock();
-    return RetrievalClock([&iteration] { return iteration.ElapsedMs(); },
-                          limit - CheckpointAheadMs(), &retrieval_cost_);
+    if (limit <= 0) return StepDeadline();
+    return StepDeadline([&iteration] { return iteration.ElapsedMs(); }, limit - CheckpointAheadMs(),
+                        cost);
   }
 
   void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
@@ -506,8 +507,8 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids =
-        Transfer(trigger, retrieved_this_iteration_, KeptLast(hypothesis), memory_, editor_);
+    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, KeptLast(hypothesis),
+                                      memory_, editor_, DeadlineOf(iteration, &transfer_cost_));
   }
 
   // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
@@ -540,8 +541,9 @@ class Detector::Impl {
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   static constexpr int kMaxSkippedCheckpoints = 8;
   int skipped_checkpoints_ = 0;
-  double last_checkpoint_ms_ = 0;        // counted in the next iteration's time check
-  RetrievalClock::Cost retrieval_cost_;  // one retrieval's expected time (T_time on)
+  double last_checkpoint_ms_ = 0;  // counted in the next iteration's time check
+  StepCost retrieval_cost_;        // one retrieval's expected time (T_time on)
+  StepCost transfer_cost_;         // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   BayesFilter filter_;

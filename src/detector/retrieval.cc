@@ -1,8 +1,8 @@
 #include "detector/retrieval.h"
 
-#include <cmath>
 #include <set>
 
+#include "detector/stopwatch.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -47,37 +47,8 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
   return outcome;
 }
 
-void RetrievalClock::Cost::Record(double ms) {
-  // RFC 6298's weights (1/8 for the mean, 1/4 for the deviation): the bound follows the map's
-  // growth and the machine's load within a few retrievals.
-  deferred_in_a_row = 0;
-  if (!measured) {
-    mean_ms = ms;
-    deviation_ms = ms / 2;
-    measured = true;
-    return;
-  }
-  deviation_ms += (std::abs(ms - mean_ms) - deviation_ms) / 4;
-  mean_ms += (ms - mean_ms) / 8;
-}
-
-void RetrievalClock::Cost::Deferred() {
-  deviation_ms -= deviation_ms / 4;
-  ++deferred_in_a_row;
-}
-
-bool RetrievalClock::Fits() const {
-  if (!elapsed_ms_ || deadline_ms_ <= 0) return true;
-  const bool estimated = cost_ != nullptr && !cost_->ProbeDue();
-  return elapsed_ms_() + (estimated ? cost_->expected_ms() : 0) <= deadline_ms_;
-}
-
-void RetrievalClock::Record(double ms) const {
-  if (cost_ != nullptr) cost_->Record(ms);
-}
-
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const RetrievalClock& clock) {
+                          LongTermMemory& ltm, const StepDeadline& deadline) {
   RetrievalOutcome outcome;
   if (highest == kNoLocation || max_retrieved <= 0) return outcome;
   const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
@@ -86,7 +57,7 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
   for (const auto& [id, distance] : neighbourhood) {
     if (static_cast<int>(outcome.retrieved.size()) + outcome.deferred >= max_retrieved) break;
     if (!ltm.Contains(id)) continue;
-    if (!clock.Fits()) {
+    if (!deadline.Fits()) {
       ++outcome.deferred;
       continue;
     }
@@ -99,7 +70,7 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
     for (WordId word : location->signature.words) memory.dictionary().MarkReferencedByLtm(word);
     memory.Restore(std::move(*location));
     outcome.retrieved.push_back(id);
-    clock.Record(stopwatch.ElapsedMs());
+    deadline.Record(stopwatch.ElapsedMs());
   }
   return outcome;
 }

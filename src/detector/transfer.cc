@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "detector/stopwatch.h"
+
 namespace memloop {
 
 bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target) {
@@ -36,7 +38,7 @@ std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<Locat
 
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
                                  const std::set<LocationId>& last, const Memory& memory,
-                                 MapEditor& editor) {
+                                 MapEditor& editor, const StepDeadline& deadline) {
   const Dictionary& dictionary = memory.dictionary();
   const auto over_budget = [&] {
     return (trigger.max_wm_locations > 0 &&
@@ -47,11 +49,16 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   std::vector<LocationId> transferred;
   if (!trigger.time_exceeded && !over_budget()) return transferred;
   for (LocationId id : TransferOrder(memory, immune, last)) {
-    const bool enough = !over_budget() && dictionary.size() <= trigger.dictionary_size_at_start &&
-                        static_cast<int>(transferred.size()) >= trigger.min_locations;
-    if (enough && !transferred.empty()) break;
+    const bool rule_met = !transferred.empty() && !over_budget() &&
+                          dictionary.size() <= trigger.dictionary_size_at_start;
+    if (rule_met &&
+        (static_cast<int>(transferred.size()) >= trigger.min_locations || !deadline.Fits())) {
+      break;
+    }
+    const Stopwatch stopwatch;
     editor.TransferToLtm(id);
     transferred.push_back(id);
+    deadline.Record(stopwatch.ElapsedMs());
   }
   return transferred;
 }

@@ -83,6 +83,22 @@ TEST_F(TransferTest, TimeControllerTransfersItsCount) {
             (std::vector<LocationId>{ids_[1], ids_[2], ids_[3]}));
 }
 
+// Past T_time's deadline, the controller's extra locations wait; the paper's rule and a budget
+// do not (at least one location, and WM down to the budget).
+TEST_F(TransferTest, TheControllersExtraLocationsGoOnlyWhileTheyFit) {
+  TransferTrigger trigger;
+  trigger.time_exceeded = true;
+  trigger.dictionary_size_at_start = memory_.dictionary().size();
+  trigger.min_locations = 3;
+  StepCost cost;
+  const StepDeadline past([] { return 60.0; }, 50, &cost);
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, past), (std::vector<LocationId>{ids_[1]}));
+  EXPECT_TRUE(cost.measured());  // the one it took was timed
+  trigger.max_wm_locations = 1;  // 3 left in WM: two more must go
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, past),
+            (std::vector<LocationId>{ids_[2], ids_[3]}));
+}
+
 TEST_F(TransferTest, WorkingMemoryBudgetIsDeterministic) {
   TransferTrigger trigger;
   trigger.max_wm_locations = 2;

@@ -112,6 +112,7 @@ void LongTermMemory::Enqueue(Operation operation) {
     if (!std::holds_alternative<CheckpointData>(operation)) Overlay(next_sequence_++, operation);
     return;
   }
+  bool committable = false;
   {
     std::unique_lock<std::mutex> lock(mutex_);
     ThrowIfFailedLocked();
@@ -127,8 +128,11 @@ void LongTermMemory::Enqueue(Operation operation) {
     Overlay(sequence, operation);
     pending_bytes_ += bytes;
     queue_.push_back({sequence, bytes, std::move(operation)});
+    committable = CommittableCountLocked() > 0;
   }
-  wake_writer_.notify_one();
+  // With checkpoints, what follows the last one cannot be committed yet: waking the writer for
+  // each of a transferred location's ~200 words cost a futex call and a context switch each.
+  if (committable) wake_writer_.notify_one();
 }
 
 void LongTermMemory::Store(const Location& location) {

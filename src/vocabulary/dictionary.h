@@ -11,6 +11,7 @@
 
 #include "memloop/options.h"
 #include "memloop/types.h"
+#include "vocabulary/word_bitset.h"
 #include "vocabulary/word_index.h"
 
 namespace memloop {
@@ -77,7 +78,7 @@ class Dictionary {
 
   std::unique_ptr<WordIndex> index_;
   std::unordered_map<WordId, Word> words_;
-  std::set<WordId> referenced_by_ltm_;  // marked words, a subset of words_
+  WordBitset referenced_by_ltm_;  // marked words, a subset of words_
   WordId next_word_id_ = 1;
 };
 

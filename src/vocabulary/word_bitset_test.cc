@@ -1,4 +1,4 @@
-#include "detector/word_bitset.h"
+#include "vocabulary/word_bitset.h"
 
 #include <gtest/gtest.h>
 
@@ -43,6 +43,15 @@ TEST(WordBitsetTest, TakesTheSmallestFirstAFewAtATime) {
   set.Insert(6);  // below where the last take stopped: found again
   EXPECT_EQ(set.TakeSmallest(2), (std::vector<WordId>{6, 64}));
   EXPECT_EQ(set.TakeSmallest(5), (std::vector<WordId>{700}));
+}
+
+TEST(WordBitsetTest, ListsItsIdsInOrder) {
+  WordBitset set;
+  EXPECT_TRUE(set.Ids().empty());
+  for (WordId id : {700, 5, 64, 63, 0}) set.Insert(id);
+  set.Erase(64);
+  EXPECT_EQ(set.Ids(), (std::vector<WordId>{0, 5, 63, 700}));
+  EXPECT_EQ(set.Ids().size(), 4u);  // listing takes nothing out
 }
 
 }  // namespace
