@@ -16,18 +16,15 @@ struct RetrievalOutcome {
   int deferred = 0;        // left in LTM this iteration: no time left for them (StepDeadline)
 };
 
-// Retrieval under T_time (memloop, issue 9; memory.retrieval_within_time). The paper bounds
-// retrieval by count alone ("a maximum of two locations ... because this step is time
-// consuming"); re-matching a location's words costs about as much as quantizing an image, so two
-// of them can push an iteration over T_time. With a deadline, a location is retrieved only when
-// it fits (StepDeadline); the others stay in LTM until an iteration has room (the highest
-// hypothesis, and an appearance match, usually hold over several images).
-
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest
-// first, then oldest), each only if it fits `deadline`. Their words still in the dictionary get
-// a reference; words that left it are matched against it: a match replaces the old word (in the
-// signature and everywhere in LTM, and the old word is removed), a non-match returns to the
-// dictionary under its old id.
+// first, then oldest). Their words still in the dictionary get a reference; words that left it
+// are matched against it: a match replaces the old word (in the signature and everywhere in LTM,
+// and the old word is removed), a non-match returns to the dictionary under its old id.
+// Under T_time (memloop, issue 9; memory.retrieval_within_time) each location is retrieved only
+// if it fits `deadline`: the paper bounds retrieval by count alone ("a maximum of two locations
+// ... because this step is time consuming"), but re-matching one location's words costs about as
+// much as quantizing an image. Deferred ones stay in LTM until an iteration has room (the highest
+// hypothesis, and an appearance match, usually hold over several images).
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
                           LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline());
 
