@@ -194,10 +194,10 @@ class Detector::Impl {
     const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
     const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
     const Hypothesis hypothesis =
-        SelectLoopClosure(z_t, likelihood, neighbourhoods, result);    // III-D
-    CloseLoop(t, hypothesis, neighbourhoods, result);                  // III-D
-    RetrieveFromLtm(iteration, hypothesis, DescriptionOf(t), result);  // III-E
-    TransferToLtm(iteration, hypothesis, result);                      // III-F
+        SelectLoopClosure(z_t, DescriptionOf(t), likelihood, neighbourhoods, result);  // III-D
+    CloseLoop(t, hypothesis, neighbourhoods, result);                                  // III-D
+    RetrieveFromLtm(iteration, hypothesis, DescriptionOf(t), result);                  // III-E
+    TransferToLtm(iteration, hypothesis, result);                                      // III-F
     Checkpoint(result);
     Summarize(t, z_t, iteration, result);
     return result;
@@ -215,9 +215,9 @@ class Detector::Impl {
     const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
     const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
     const Hypothesis hypothesis =
-        SelectLoopClosure(z_t, likelihood, neighbourhoods, result);  // III-D
-    RetrieveFromLtm(iteration, hypothesis, &appearance, result);     // III-E
-    TransferToLtm(iteration, hypothesis, result);                    // III-F
+        SelectLoopClosure(z_t, &appearance, likelihood, neighbourhoods, result);  // III-D
+    RetrieveFromLtm(iteration, hypothesis, &appearance, result);                  // III-E
+    TransferToLtm(iteration, hypothesis, result);                                 // III-F
     Summarize(kNoLocation, z_t, iteration, result);
     return result;
   }
@@ -368,12 +368,14 @@ class Detector::Impl {
     return neighbourhoods;
   }
 
-  Hypothesis SelectLoopClosure(const Signature& z_t, const Likelihood& likelihood,
-                               const Neighbourhoods& neighbourhoods, Result& result) {
+  Hypothesis SelectLoopClosure(const Signature& z_t, const Appearance* appearance,
+                               const Likelihood& likelihood, const Neighbourhoods& neighbourhoods,
+                               Result& result) {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
     RequireSupport(likelihood, hypothesis);
+    CheckLtmNeighbours(appearance, hypothesis);
     Verify(z_t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
@@ -404,6 +406,19 @@ class Detector::Impl {
     const auto value = likelihood.values.find(hypothesis.id);
     if (value != likelihood.values.end() && value->second > 1.0) return;
     hypothesis.Refuse();
+  }
+
+  // filter.ltm_neighbour_check (hypothesis.h): the three false positives of the 50,000-image run
+  // under T_time were hypotheses one step behind the robot, the step still in LTM.
+  void CheckLtmNeighbours(const Appearance* appearance, Hypothesis& hypothesis) const {
+    if (!options_.filter.ltm_neighbour_check || hypothesis.id == kNoLocation) return;
+    std::function<double(LocationId)> looks_like_image;
+    if (appearance_ && appearance != nullptr) {
+      looks_like_image = [&](LocationId id) { return appearance_->Score(*appearance, id); };
+    }
+    memloop::CheckLtmNeighbours(
+        memory_.LinksOf(hypothesis.id), [&](LocationId id) { return ltm_.Contains(id); },
+        looks_like_image, hypothesis);
   }
 
   // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
@@ -447,8 +462,14 @@ class Detector::Impl {
     const StepDeadline deadline = options_.memory.retrieval_within_time
                                       ? DeadlineOf(iteration, &retrieval_cost_)
                                       : StepDeadline();
-    RetrievalOutcome outcome =
-        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
+    // Among equally near neighbours, those that look most like the image first: the robot is
+    // where the image was taken, ahead of or behind the match.
+    RetrievalPreference looks_like_image;
+    if (appearance_ && appearance != nullptr) {
+      looks_like_image = [&](LocationId id) { return appearance_->Score(*appearance, id); };
+    }
+    RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved, range,
+                                        memory_, ltm_, deadline, looks_like_image);
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
     if (appearance_ && appearance != nullptr) {
@@ -456,7 +477,8 @@ class Detector::Impl {
       result.appearance_match_id = match.id;
       result.appearance_match_z = match.z;
       if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
-        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
+        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline,
+                           looks_like_image);
         retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
         result.retrievals_deferred += outcome.deferred;
       }

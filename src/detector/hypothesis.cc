@@ -27,4 +27,16 @@ Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, doubl
   return best;
 }
 
+void CheckLtmNeighbours(const std::vector<LocationId>& links,
+                        const std::function<bool(LocationId)>& in_ltm,
+                        const std::function<double(LocationId)>& looks_like_image,
+                        Hypothesis& hypothesis) {
+  if (hypothesis.id == kNoLocation) return;
+  const double own = looks_like_image ? looks_like_image(hypothesis.id) : 0;
+  for (LocationId neighbour : links) {
+    if (!in_ltm(neighbour)) continue;
+    if (!looks_like_image || looks_like_image(neighbour) > own) return hypothesis.Refuse();
+  }
+}
+
 }  // namespace memloop

@@ -1,7 +1,9 @@
 // Loop-closure hypothesis selection (paper III-D).
 #pragma once
 
+#include <functional>
 #include <map>
+#include <vector>
 
 #include "detector/bayes_filter.h"
 #include "memloop/options.h"
@@ -27,5 +29,15 @@ struct Hypothesis {
 // With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
 Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options);
+
+// filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is
+// in LTM and looks more like the image than L_i does: the image may have been taken there, where
+// the filter could not look (its retrieval was deferred, or comes after this selection), so the
+// hypothesis lags behind the robot. `looks_like_image` scores a location against the image
+// (retrieval by appearance's descriptions); without it, any linked LTM location refuses.
+void CheckLtmNeighbours(const std::vector<LocationId>& links,
+                        const std::function<bool(LocationId)>& in_ltm,
+                        const std::function<double(LocationId)>& looks_like_image,
+                        Hypothesis& hypothesis);
 
 }  // namespace memloop

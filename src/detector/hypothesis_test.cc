@@ -75,5 +75,34 @@ TEST(HypothesisTest, EmptyWorkingMemoryHasNoHypothesis) {
   EXPECT_FALSE(hypothesis.accepted);
 }
 
+// L_i = 2 linked to 1 and 3; 3 is in LTM. Image scores: L_i 0.4, 1 0.9 (in WM: not counted).
+TEST(HypothesisTest, AnLtmNeighbourThatLooksMoreLikeTheImageRefuses) {
+  const auto in_ltm = [](LocationId id) { return id == 3; };
+  const auto accepted = [] {
+    Hypothesis hypothesis;
+    hypothesis.id = 2;
+    hypothesis.eligible = hypothesis.accepted = true;
+    return hypothesis;
+  };
+  const auto scored = [](double three) {
+    return [three](LocationId id) { return id == 2 ? 0.4 : id == 1 ? 0.9 : three; };
+  };
+  Hypothesis hypothesis = accepted();
+  CheckLtmNeighbours({1, 3}, in_ltm, scored(0.3), hypothesis);  // 3 looks less like it
+  EXPECT_TRUE(hypothesis.accepted);
+  CheckLtmNeighbours({1, 3}, in_ltm, scored(0.4), hypothesis);  // a tie keeps L_i
+  EXPECT_TRUE(hypothesis.accepted);
+  CheckLtmNeighbours({1, 3}, in_ltm, scored(0.5), hypothesis);
+  EXPECT_FALSE(hypothesis.accepted);
+  EXPECT_FALSE(hypothesis.eligible);  // at any T_loop
+
+  hypothesis = accepted();  // without descriptions, any linked LTM location refuses
+  CheckLtmNeighbours({1, 3}, in_ltm, nullptr, hypothesis);
+  EXPECT_FALSE(hypothesis.accepted);
+  hypothesis = accepted();
+  CheckLtmNeighbours({1}, in_ltm, nullptr, hypothesis);
+  EXPECT_TRUE(hypothesis.accepted);
+}
+
 }  // namespace
 }  // namespace memloop

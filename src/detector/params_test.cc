@@ -31,6 +31,7 @@ TEST(ParamsTest, Paper2011PresetIsThePapersAndValid) {
   EXPECT_EQ(FindParameter("filter.hypothesis_value")->Get(options), "neighbours");
   EXPECT_EQ(FindParameter("filter.likelihood")->Get(options), "similarity");
   EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "false");
+  EXPECT_EQ(FindParameter("filter.ltm_neighbour_check")->Get(options), "false");
   EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "false");
   EXPECT_EQ(FindParameter("memory.time_target")->Get(options), "1");
   EXPECT_EQ(FindParameter("verify.min_inliers")->Get(options), "0");
@@ -51,12 +52,13 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
   for (const Parameter& parameter : Parameters()) {
     if (parameter.Get(defaults) != parameter.Get(paper)) departures.insert(parameter.key);
   }
-  EXPECT_EQ(departures,
-            (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
-                                   "filter.loop_threshold", "filter.hypothesis_value",
-                                   "filter.require_support", "memory.time_target",
-                                   "memory.transfer_max_fraction", "sift.upright", "orb.upright",
-                                   "memory.appearance_retrieval", "memory.retrieval_within_time"}));
+  EXPECT_EQ(
+      departures,
+      (std::set<std::string>{
+          "surf.upright", "memory.stm_size", "memory.protect_hypothesis", "filter.loop_threshold",
+          "filter.hypothesis_value", "filter.require_support", "filter.ltm_neighbour_check",
+          "memory.time_target", "memory.transfer_max_fraction", "sift.upright", "orb.upright",
+          "memory.appearance_retrieval", "memory.retrieval_within_time"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

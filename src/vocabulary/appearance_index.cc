@@ -157,4 +157,24 @@ AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   return best;
 }
 
+double AppearanceIndex::Score(const Appearance& query, LocationId id) const {
+  const auto described = appearances_.find(id);
+  if (query.empty() || described == appearances_.end()) return 0;
+  const Appearance& location = described->second;
+  const size_t outside = Searched(id) ? 0 : 1;  // counted as one more searched location
+  const double searched = static_cast<double>(searched_.size() + outside);
+  double score = 0;
+  auto entry = location.begin();
+  for (AppearanceEntry wanted : query) {  // both sorted: one merge pass
+    entry = std::lower_bound(entry, location.end(), wanted);
+    if (entry == location.end()) break;
+    if (*entry != wanted) continue;
+    const double holders = static_cast<double>(postings_[wanted].size() + outside);
+    if (2.0 * holders > searched) continue;  // as Best: too common
+    score += std::log(searched / holders);
+  }
+  return score /
+         std::sqrt(static_cast<double>(query.size()) * static_cast<double>(location.size()));
+}
+
 }  // namespace memloop

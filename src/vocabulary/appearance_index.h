@@ -68,6 +68,9 @@ class AppearanceIndex {
   // The searched location that scores best against `query` (ties: the oldest), and how far it
   // stands out. Entries held by more than half the searched locations are ignored.
   AppearanceMatch Best(const Appearance& query) const;
+  // The score Best gives, or would give were it searched, the described location `id` against
+  // `query` (0 when `id` is not described).
+  double Score(const Appearance& query, LocationId id) const;
 
   // The vocabulary collected so far: its words and descriptor rows, in entry order.
   const std::vector<WordId>& vocabulary_words() const { return vocabulary_words_; }

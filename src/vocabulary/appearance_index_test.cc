@@ -64,6 +64,22 @@ TEST_F(AppearanceSearchTest, ScoresByIdfOverTheDescriptionsSizes) {
   EXPECT_NEAR(match.z, (a - mean) / deviation, 1e-12);  // 1.633
 }
 
+TEST_F(AppearanceSearchTest, ScoresOneLocationAsBestDoes) {
+  // Query {0, 1} as above: A ln 8 / 2, B ln 2 / 2, C and D share nothing.
+  EXPECT_DOUBLE_EQ(index_.Score({0, 1}, kA), std::log(8.0) / 2);
+  EXPECT_DOUBLE_EQ(index_.Score({0, 1}, kB), std::log(2.0) / 2);
+  EXPECT_EQ(index_.Score({0, 1}, kC), 0);
+  // Query {1, 3}: C holds entry 3 (C and D: ln 2) over sqrt(2 * 2).
+  EXPECT_DOUBLE_EQ(index_.Score({1, 3}, kC), std::log(2.0) / 2);
+  EXPECT_EQ(index_.Score({}, kA), 0);
+  EXPECT_EQ(index_.Score({0, 1}, 99), 0);  // not described
+  // A not searched: scored as if it were (4 searched again): entry 1 held by B
+  // and A (ln 2), entry 0 by A alone (ln 4); B's entry 1 now by B alone of 3 (ln 3).
+  index_.Leave(kA);
+  EXPECT_DOUBLE_EQ(index_.Score({0, 1}, kA), std::log(8.0) / 2);
+  EXPECT_DOUBLE_EQ(index_.Score({0, 1}, kB), std::log(3.0) / 2);
+}
+
 TEST_F(AppearanceSearchTest, OnlySearchedLocationsAnswer) {
   index_.Leave(kA);
   EXPECT_FALSE(index_.Searched(kA));
