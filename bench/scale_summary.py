@@ -50,17 +50,26 @@ db = sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)
          if f.startswith(name + ".db"))
 first = statistics.median(times[1000:2000]) if len(times) >= 2000 else float("nan")
 last = statistics.median(times[-1000:])
-# RSS growth over the last 10,000 images (the last half when the run is shorter than 20,000).
+# RSS while images were processed: samples taken once every row was written are the close
+# (Detector::Close stores WM and its words in LTM), reported apart. Growth over the last 10,000
+# images (the last half when the run is shorter than 20,000): the highest RSS of its last 1,000
+# images against that of its first 1,000 (under T_time, RSS follows WM up and down).
+running = {written: mb for written, mb in rss.items() if written < len(rows)}
 tail = 10000 if len(rows) >= 20000 else len(rows) // 2
-rss_tail = [mb for written, mb in sorted(rss.items()) if written >= len(rows) - tail]
-rss_growth = (rss_tail[-1] / rss_tail[0] - 1) * 100 if rss_tail else float("nan")
+def block_peak(start, end):
+    return max((mb for written, mb in running.items() if start <= written < end), default=float("nan"))
+rss_start = block_peak(len(rows) - tail, len(rows) - tail + 1000)
+rss_end = block_peak(len(rows) - 1000, len(rows))
+rss_growth = (rss_end / rss_start - 1) * 100
+running_peak = max(running.values(), default=float("nan"))
 print(f"\nimages: {len(rows)}; median iteration: images 1000-2000 {first:.1f} ms, last 1000 "
       f"{last:.1f} ms (ratio {last / first:.2f}); max {max(times):.1f} ms")
 if time_limit > 0 and name == "time":
     over = sum(t > time_limit for t in times)
     print(f"T_time {time_limit:g} ms: {over} iterations over ({100 * over / len(times):.2f}%), "
           f"max / T_time {max(times) / time_limit:.2f}")
-print(f"peak RSS {peak_mb:.0f} MB; RSS growth over the last {tail} images {rss_growth:.1f}%; "
+print(f"peak RSS {running_peak:.0f} MB while processing, {peak_mb:.0f} MB with the close; RSS "
+      f"growth over the last {tail} images {rss_growth:.1f}% ({rss_start:.0f} -> {rss_end:.0f} MB); "
       f"map file {db / 1e6:.0f} MB")
 print(f"revisit images found: {found} of {revisit_images} in the sequence "
       f"({through_retrieval} on locations retrieved from LTM); false positives: {false_positives}")

@@ -145,8 +145,9 @@ struct FilterOptions {
   // 1: a hypothesis is accepted only when the image's own likelihood for it stands out (eq. 3
   // above 1), not on the prior alone (memloop); 0: the paper.
   int require_support = 1;
-  // 1: a hypothesis is not accepted while a location linked to it is in LTM and looks more like
-  // the image than it does (memloop); 0: the paper.
+  // 1: after an image whose retrieval was deferred for T_time, a hypothesis is not accepted while
+  // a location linked to it is in LTM and looks more like the image than it does (memloop); 0:
+  // the paper.
   int ltm_neighbour_check = 1;
 };
 

@@ -408,10 +408,13 @@ class Detector::Impl {
     hypothesis.Refuse();
   }
 
-  // filter.ltm_neighbour_check (hypothesis.h): the three false positives of the 50,000-image run
-  // under T_time were hypotheses one step behind the robot, the step still in LTM.
+  // filter.ltm_neighbour_check (hypothesis.h), while retrieval lags (a retrieval was deferred
+  // for T_time the image before): the three false positives of the 50,000-image run under T_time
+  // were hypotheses one step behind the robot, the step left in LTM by deferrals. Without
+  // deferral no such false positive was seen, and the check cost loop closures under WM budgets.
   void CheckLtmNeighbours(const Appearance* appearance, Hypothesis& hypothesis) const {
-    if (!options_.filter.ltm_neighbour_check || hypothesis.id == kNoLocation) return;
+    if (!options_.filter.ltm_neighbour_check || !retrieval_lagging_) return;
+    if (hypothesis.id == kNoLocation) return;
     std::function<double(LocationId)> looks_like_image;
     if (appearance_ && appearance != nullptr) {
       looks_like_image = [&](LocationId id) { return appearance_->Score(*appearance, id); };
@@ -462,14 +465,8 @@ class Detector::Impl {
     const StepDeadline deadline = options_.memory.retrieval_within_time
                                       ? DeadlineOf(iteration, &retrieval_cost_)
                                       : StepDeadline();
-    // Among equally near neighbours, those that look most like the image first: the robot is
-    // where the image was taken, ahead of or behind the match.
-    RetrievalPreference looks_like_image;
-    if (appearance_ && appearance != nullptr) {
-      looks_like_image = [&](LocationId id) { return appearance_->Score(*appearance, id); };
-    }
-    RetrievalOutcome outcome = Retrieve(hypothesis.id, options_.memory.max_retrieved, range,
-                                        memory_, ltm_, deadline, looks_like_image);
+    RetrievalOutcome outcome =
+        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
     if (appearance_ && appearance != nullptr) {
@@ -477,13 +474,13 @@ class Detector::Impl {
       result.appearance_match_id = match.id;
       result.appearance_match_z = match.z;
       if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
-        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline,
-                           looks_like_image);
+        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
         retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
         result.retrievals_deferred += outcome.deferred;
       }
     }
     if (result.retrievals_deferred > 0) retrieval_cost_.Deferred();
+    retrieval_lagging_ = result.retrievals_deferred > 0;
     for (LocationId id : retrieved) {
       filter_.Add(id);  // a new state, probability 0
       if (appearance_) appearance_->Leave(id);
@@ -563,9 +560,10 @@ class Detector::Impl {
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   static constexpr int kMaxSkippedCheckpoints = 8;
   int skipped_checkpoints_ = 0;
-  double last_checkpoint_ms_ = 0;  // counted in the next iteration's time check
-  StepCost retrieval_cost_;        // one retrieval's expected time (T_time on)
-  StepCost transfer_cost_;         // one transfer's
+  double last_checkpoint_ms_ = 0;   // counted in the next iteration's time check
+  bool retrieval_lagging_ = false;  // a retrieval was deferred in the last iteration
+  StepCost retrieval_cost_;         // one retrieval's expected time (T_time on)
+  StepCost transfer_cost_;          // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   BayesFilter filter_;

@@ -132,7 +132,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Flag()
         .Symbol("eq. 3").Help("true: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (false = the paper)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()
-        .Help("true: no loop closure on L_i while a location linked to it is in LTM and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, may lag behind the robot (false = the paper)"),
+        .Help("true: after an image whose retrieval was deferred for T_time, no loop closure on L_i while a location linked to it is in LTM and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, lags behind the robot (false = the paper)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
         .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)

@@ -1,6 +1,6 @@
 #include "detector/retrieval.h"
 
-#include <algorithm>
+#include <set>
 
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
@@ -48,28 +48,15 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
 }
 
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const StepDeadline& deadline,
-                          const RetrievalPreference& preferred) {
+                          LongTermMemory& ltm, const StepDeadline& deadline) {
   RetrievalOutcome outcome;
   if (highest == kNoLocation || max_retrieved <= 0) return outcome;
   const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
     return memory.Contains(id) ? memory.LinksOf(id) : ltm.LinksOf(id);
   });
-  struct Candidate {
-    LocationId id;
-    int distance;
-    double preference;
-  };
-  std::vector<Candidate> candidates;  // in LTM, by distance then id (the neighbourhood's order)
   for (const auto& [id, distance] : neighbourhood) {
-    if (ltm.Contains(id)) candidates.push_back({id, distance, preferred ? preferred(id) : 0.0});
-  }
-  std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
-    return a.distance != b.distance ? a.distance < b.distance : a.preference > b.preference;
-  });
-  for (const Candidate& candidate : candidates) {
     if (static_cast<int>(outcome.retrieved.size()) + outcome.deferred >= max_retrieved) break;
-    const LocationId id = candidate.id;
+    if (!ltm.Contains(id)) continue;
     if (!deadline.Fits()) {
       ++outcome.deferred;
       continue;

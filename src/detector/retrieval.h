@@ -1,7 +1,6 @@
 // Retrieval (paper III-E): LTM neighbours of the highest hypothesis come back into WM.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "detector/memory.h"
@@ -17,22 +16,17 @@ struct RetrievalOutcome {
   int deferred = 0;        // left in LTM this iteration: no time left for them (StepDeadline)
 };
 
-// How much an LTM location is wanted back (higher first); none: all alike.
-using RetrievalPreference = std::function<double(LocationId)>;
-
-// Brings back at most `max_retrieved` LTM locations within `range` links of `highest`: nearest
-// first, then the most `preferred`, then the oldest. Their words still in the dictionary get a
-// reference; words that left it are matched against it: a match replaces the old word (in the
-// signature and everywhere in LTM, and the old word is removed), a non-match returns to the
-// dictionary under its old id. Under T_time (memloop, issue 9; memory.retrieval_within_time) each
-// location is retrieved only if it fits `deadline`: the paper bounds retrieval by count alone ("a
-// maximum of two locations
+// Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest
+// first, then oldest). Their words still in the dictionary get a reference; words that left it
+// are matched against it: a match replaces the old word (in the signature and everywhere in LTM,
+// and the old word is removed), a non-match returns to the dictionary under its old id.
+// Under T_time (memloop, issue 9; memory.retrieval_within_time) each location is retrieved only
+// if it fits `deadline`: the paper bounds retrieval by count alone ("a maximum of two locations
 // ... because this step is time consuming"), but re-matching one location's words costs about as
 // much as quantizing an image. Deferred ones stay in LTM until an iteration has room (the highest
 // hypothesis, and an appearance match, usually hold over several images).
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline(),
-                          const RetrievalPreference& preferred = nullptr);
+                          LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline());
 
 // The words of `location` that left the dictionary, re-matched as above (exposed for tests).
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm);

@@ -38,21 +38,6 @@ TEST_F(RetrievalTest, AtMostTwoNearestNeighboursComeBack) {
   EXPECT_EQ(memory_.at(ids_[0]).neighbours, (std::set<LocationId>{ids_[1]}));
 }
 
-// Around L3 (in LTM, as its neighbours L2 and L4, both one link away): L3 itself, then the
-// preferred of L2 and L4; the next call brings the other.
-TEST_F(RetrievalTest, EquallyNearNeighboursComeBackMostPreferredFirst) {
-  const auto prefer_l4 = [this](LocationId id) { return id == ids_[3] ? 1.0 : 0.0; };
-  RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_, StepDeadline(), prefer_l4);
-  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L3 at 0, then L4
-  outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_);
-  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[1]}));
-}
-
-TEST_F(RetrievalTest, WithoutPreferenceEquallyNearOnesComeOldestFirst) {
-  const RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_);
-  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2], ids_[1]}));  // L2 before L4
-}
-
 TEST_F(RetrievalTest, NothingToRetrieveWithoutHypothesis) {
   EXPECT_TRUE(Retrieve(kNoLocation, 2, 4, memory_, *ltm_).retrieved.empty());
 }
