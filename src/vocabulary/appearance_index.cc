@@ -120,6 +120,23 @@ void AppearanceIndex::Leave(LocationId id) {
   }
 }
 
+namespace {
+
+// An entry's idf over `searched` locations; 0 when none holds it or more than half do (too common
+// to tell places apart), so that it is ignored.
+double EntryWeight(size_t holders, double searched) {
+  if (holders == 0 || 2.0 * static_cast<double>(holders) > searched) return 0;
+  return std::log(searched / static_cast<double>(holders));
+}
+
+// The weight of the entries a location shares with the query, over both descriptions' sizes.
+double Normalized(double shared_weight, size_t query_size, size_t location_size) {
+  return shared_weight /
+         std::sqrt(static_cast<double>(query_size) * static_cast<double>(location_size));
+}
+
+}  // namespace
+
 AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   AppearanceMatch best;
   const double searched = static_cast<double>(searched_.size());
@@ -127,8 +144,8 @@ AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   std::vector<LocationId> touched;
   for (AppearanceEntry entry : query) {
     const std::vector<LocationId>& posting = postings_[entry];
-    if (posting.empty() || 2.0 * static_cast<double>(posting.size()) > searched) continue;
-    const double idf = std::log(searched / static_cast<double>(posting.size()));
+    const double idf = EntryWeight(posting.size(), searched);
+    if (idf == 0) continue;
     for (LocationId id : posting) {
       const auto slot = static_cast<size_t>(id);
       if (slot >= scores_.size()) scores_.resize(std::max(slot + 1, 2 * scores_.size()), 0.0);
@@ -140,8 +157,7 @@ AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   std::sort(touched.begin(), touched.end());
   double sum = 0, sum_squares = 0;
   for (LocationId id : touched) {
-    const double score = scores_[id] / std::sqrt(static_cast<double>(query.size()) *
-                                                 static_cast<double>(appearances_.at(id).size()));
+    const double score = Normalized(scores_[id], query.size(), appearances_.at(id).size());
     scores_[id] = 0;
     sum += score;
     sum_squares += score * score;
@@ -163,18 +179,15 @@ double AppearanceIndex::Score(const Appearance& query, LocationId id) const {
   const Appearance& location = described->second;
   const size_t outside = Searched(id) ? 0 : 1;  // counted as one more searched location
   const double searched = static_cast<double>(searched_.size() + outside);
-  double score = 0;
+  double score = 0;  // as Best
   auto entry = location.begin();
   for (AppearanceEntry wanted : query) {  // both sorted: one merge pass
     entry = std::lower_bound(entry, location.end(), wanted);
     if (entry == location.end()) break;
     if (*entry != wanted) continue;
-    const double holders = static_cast<double>(postings_[wanted].size() + outside);
-    if (2.0 * holders > searched) continue;  // as Best: too common
-    score += std::log(searched / holders);
+    score += EntryWeight(postings_[wanted].size() + outside, searched);
   }
-  return score /
-         std::sqrt(static_cast<double>(query.size()) * static_cast<double>(location.size()));
+  return Normalized(score, query.size(), location.size());
 }
 
 }  // namespace memloop
