@@ -86,7 +86,10 @@ struct MemoryOptions {
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).
-  int max_dictionary_words = 0;
+  // memloop bounds memory by default (about 1.7 KB per word, forest and descriptors included),
+  // which T_time alone does not: a WM that fit T_time grew to 1.07 million words and 2.0 GB over
+  // 50,000 images (issue 9). The paper has no such bound: 0.
+  int max_dictionary_words = 400000;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
   // 1 (with T_time on): a location is retrieved only when the iteration, with its expected

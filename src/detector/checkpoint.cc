@@ -28,6 +28,15 @@ class ByteWriter {
     for (const auto& value : values) Put(value);
     return *this;
   }
+  // A vector in one copy (a rebuild's snapshot is up to millions of word ids).
+  template <typename T>
+  ByteWriter& PutAll(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    Put(static_cast<uint64_t>(values.size()));
+    const auto* data = reinterpret_cast<const unsigned char*>(values.data());
+    bytes_.insert(bytes_.end(), data, data + values.size() * sizeof(T));
+    return *this;
+  }
   std::vector<unsigned char> Take() { return std::move(bytes_); }
 
  private:
@@ -186,18 +195,16 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
     for (WordId word : history.point_words) named.Insert(word);
     descriptors_written_.MoveAbsentFrom(named, descriptors_to_forget_);
   }
-  checkpoint.index_points.reserve(history.point_words.size());
+  checkpoint.first_index_point = static_cast<long long>(history.first_point);
   for (size_t k = 0; k < history.point_words.size(); ++k) {
     const WordId word = history.point_words[k];
-    const size_t point = history.first_point + k;
-    std::vector<unsigned char> descriptor;
-    if (descriptors_written_.Insert(word)) {
-      const cv::Mat row = index.PointDescriptor(point);
-      descriptor.assign(row.data, row.data + row.total() * row.elemSize());
-      descriptors_to_forget_.Erase(word);  // written again: it must stay
-    }
-    checkpoint.index_points.push_back({static_cast<long long>(point), word, std::move(descriptor)});
+    if (!descriptors_written_.Insert(word)) continue;
+    const cv::Mat row = index.PointDescriptor(history.first_point + k);
+    checkpoint.index_descriptors.emplace_back(
+        word, std::vector<unsigned char>(row.data, row.data + row.total() * row.elemSize()));
+    descriptors_to_forget_.Erase(word);  // written again: it must stay
   }
+  checkpoint.index_words = std::move(history.point_words);
   constexpr size_t kForgottenPerCheckpoint = 2000;
   checkpoint.forgotten_descriptors = descriptors_to_forget_.TakeSmallest(kForgottenPerCheckpoint);
   index_build_count_ = history.build_count;

@@ -76,7 +76,8 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   CheckpointData first = Next();
   EXPECT_TRUE(first.full);
   EXPECT_EQ(first.locations.size(), 3u);
-  EXPECT_EQ(first.index_points.size(), 4u);
+  EXPECT_EQ(first.index_words, (std::vector<WordId>{1, 2, 3, 4}));
+  EXPECT_EQ(first.index_descriptors.size(), 4u);
   EXPECT_EQ(first.state.size(), 7u);  // counters, stm, dictionary, index (and pending build),
                                       // filter, past matches
 
@@ -84,7 +85,8 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_FALSE(unchanged.full);
   EXPECT_TRUE(unchanged.locations.empty());
   EXPECT_TRUE(unchanged.removed_locations.empty());
-  EXPECT_TRUE(unchanged.index_points.empty());
+  EXPECT_TRUE(unchanged.index_words.empty());
+  EXPECT_TRUE(unchanged.index_descriptors.empty());
   EXPECT_TRUE(unchanged.state.empty());
 
   memory_.at(2).weight = 5;
@@ -95,9 +97,10 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(changed.locations[0].first, 2);
   EXPECT_EQ(changed.locations[1].first, 4);
   EXPECT_FALSE(changed.reset_index);
-  ASSERT_EQ(changed.index_points.size(), 1u);
-  EXPECT_EQ(changed.index_points[0].point, 4);
-  EXPECT_EQ(changed.index_points[0].word, 5);
+  EXPECT_EQ(changed.first_index_point, 4);
+  EXPECT_EQ(changed.index_words, (std::vector<WordId>{5}));
+  ASSERT_EQ(changed.index_descriptors.size(), 1u);
+  EXPECT_EQ(changed.index_descriptors[0].first, 5);
   EXPECT_EQ(changed.state.size(), 3u);  // counters, stm, index
 
   std::vector<WordId> orphans;
@@ -168,10 +171,13 @@ TEST(CheckpointIndexTest, RebuildRewritesPointsButNotTheDescriptorsTheFileHolds)
   while (memory.dictionary().index().build_count() == builds) AddChain(memory, {{word++}});
   const CheckpointData rebuilt = writer.Next(memory, filter, {}, {});
   ASSERT_TRUE(rebuilt.reset_index);
-  EXPECT_EQ(rebuilt.index_points.size(), memory.dictionary().size());
-  for (const CheckpointData::Point& point : rebuilt.index_points) {
-    EXPECT_EQ(point.descriptor.empty(), point.word <= 3) << "word " << point.word;
+  EXPECT_EQ(rebuilt.first_index_point, 0);
+  EXPECT_EQ(rebuilt.index_words.size(), memory.dictionary().size());
+  for (const auto& [word, descriptor] : rebuilt.index_descriptors) {  // only the new words'
+    EXPECT_GT(word, 3);
+    EXPECT_FALSE(descriptor.empty());
   }
+  EXPECT_EQ(rebuilt.index_descriptors.size(), memory.dictionary().size() - 3);
   EXPECT_EQ(rebuilt.forgotten_descriptors, (std::vector<WordId>{100}));
   database.WriteCheckpoint(rebuilt);
   Memory reloaded(DescriptorKind::kFloat, 2, options);

@@ -14,6 +14,7 @@ Options Options::Paper2011() {
   options.memory.retrieval_within_time = 0;
   options.memory.time_target = 1.0;
   options.memory.transfer_max_fraction = 0;
+  options.memory.max_dictionary_words = 0;
   options.filter.hypothesis_value = "neighbours";
   options.filter.loop_threshold = 0.10;
   options.filter.likelihood = "similarity";

@@ -337,7 +337,8 @@ void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
 size_t CheckpointData::bytes() const {
   size_t total = 64;
   for (const auto& [id, data] : locations) total += data.size() + 16;
-  for (const Point& point : index_points) total += point.descriptor.size() + 16;
+  total += index_words.size() * sizeof(WordId);
+  for (const auto& [word, descriptor] : index_descriptors) total += descriptor.size() + 16;
   for (const auto& [key, value] : state) total += key.size() + value.size();
   return total + removed_locations.size() * sizeof(LocationId);
 }
@@ -357,17 +358,12 @@ void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   }
   // The index points of this checkpoint (consecutive) as one row of word ids: a rebuild rewrites
   // one blob, not a row per point.
-  if (!checkpoint.index_points.empty()) {
-    std::vector<int32_t> words;
-    words.reserve(checkpoint.index_points.size());
-    for (const CheckpointData::Point& row : checkpoint.index_points) {
-      assert(row.point ==
-             checkpoint.index_points.front().point + static_cast<long long>(words.size()));
-      words.push_back(row.word);
-    }
+  static_assert(sizeof(WordId) == sizeof(int32_t));
+  if (!checkpoint.index_words.empty()) {
     Cached("INSERT OR REPLACE INTO index_chunks(first_point, words) VALUES(?,?)")
-        .Bind(1, checkpoint.index_points.front().point)
-        .BindBlob(2, words.data(), static_cast<int>(words.size() * sizeof(int32_t)))
+        .Bind(1, checkpoint.first_index_point)
+        .BindBlob(2, checkpoint.index_words.data(),
+                  static_cast<int>(checkpoint.index_words.size() * sizeof(int32_t)))
         .Run();
   }
   auto& forget = Cached("DELETE FROM index_descriptors WHERE word_id=?");
@@ -376,10 +372,9 @@ void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   }
   auto& descriptor =
       Cached("INSERT OR REPLACE INTO index_descriptors(word_id, descriptor) VALUES(?,?)");
-  for (const CheckpointData::Point& row : checkpoint.index_points) {
-    if (row.descriptor.empty()) continue;
-    descriptor.Bind(1, static_cast<long long>(row.word))
-        .BindBlob(2, row.descriptor.data(), static_cast<int>(row.descriptor.size()))
+  for (const auto& [word, bytes] : checkpoint.index_descriptors) {
+    descriptor.Bind(1, static_cast<long long>(word))
+        .BindBlob(2, bytes.data(), static_cast<int>(bytes.size()))
         .Run();
   }
   auto& state = Cached("INSERT OR REPLACE INTO resume_state(key, value) VALUES(?,?)");

@@ -26,12 +26,17 @@ struct CheckpointData {
   std::vector<std::pair<LocationId, std::vector<unsigned char>>> locations;
   std::vector<LocationId> removed_locations;
   bool reset_index = false;  // the index was rebuilt: its old points go
-  struct Point {
+  // The index points since the previous checkpoint (all of them after a rebuild): consecutive from
+  // first_index_point, as word ids, and the descriptors of their words the file does not hold yet
+  // (a word's descriptor never changes: it is written once).
+  long long first_index_point = 0;
+  std::vector<WordId> index_words;
+  std::vector<std::pair<WordId, std::vector<unsigned char>>> index_descriptors;
+  struct Point {  // an index point as read back, with its word's descriptor
     long long point;
     WordId word;
-    std::vector<unsigned char> descriptor;  // written: empty when the file already holds it
-  };                                        // read: always the word's descriptor
-  std::vector<Point> index_points;          // consecutive points
+    std::vector<unsigned char> descriptor;
+  };
   // Descriptors of words no index point names any more, deleted a few thousand per checkpoint.
   std::vector<WordId> forgotten_descriptors;
   std::vector<std::pair<std::string, std::vector<unsigned char>>> state;

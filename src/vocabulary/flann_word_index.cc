@@ -9,6 +9,7 @@
 
 #include "memloop/errors.h"
 #include "vocabulary/flann_deterministic.h"
+#include "vocabulary/point_map.h"
 #include "vocabulary/word_index.h"
 
 namespace memloop {
@@ -75,8 +76,7 @@ class FlannWordIndex : public WordIndex {
       Build(points);
     }
     for (size_t i = 0; i < ids.size(); ++i) {
-      point_of_word_[ids[i]] = first_point + i;
-      word_of_point_[first_point + i] = ids[i];
+      points_.Set(ids[i], first_point + i);
       point_words_.push_back(ids[i]);
     }
     if (first_point == 0) {  // this Add built the index
@@ -90,7 +90,7 @@ class FlannWordIndex : public WordIndex {
       if (pending_->catching_up && SwapDue()) FinishBuild();
     } else if (changes_since_build_ >
                options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
-      if (options_.rebuild_delay > 0 && !point_of_word_.empty()) {
+      if (options_.rebuild_delay > 0 && points_.size() > 0) {
         StartBuild();
       } else {
         Rebuild();
@@ -99,17 +99,16 @@ class FlannWordIndex : public WordIndex {
   }
 
   void Remove(WordId id) override {
-    const auto found = point_of_word_.find(id);
-    if (found == point_of_word_.end()) return;
-    index_->removePoint(found->second);
-    word_of_point_.erase(found->second);
-    point_of_word_.erase(found);
+    const size_t point = points_.PointOf(id);
+    if (point == PointMap::kNoPoint) return;
+    index_->removePoint(point);
+    points_.Erase(id);
     ++changes_since_build_;
     if (pending_) removed_since_snapshot_.push_back(id);
   }
 
-  bool Contains(WordId id) const override { return point_of_word_.count(id) > 0; }
-  size_t size() const override { return point_of_word_.size(); }
+  bool Contains(WordId id) const override { return points_.Contains(id); }
+  size_t size() const override { return points_.size(); }
   int build_count() const override { return build_count_; }
 
   cv::Mat Descriptor(WordId id) const override {
@@ -158,8 +157,7 @@ class FlannWordIndex : public WordIndex {
     pending_.reset();
     index_.reset();
     buffers_.clear();
-    point_of_word_.clear();
-    word_of_point_.clear();
+    points_.Clear();
     for (size_t batch = 0; batch < history.batch_starts.size(); ++batch) {
       const size_t begin = history.batch_starts[batch];
       const size_t end = batch + 1 < history.batch_starts.size() ? history.batch_starts[batch + 1]
@@ -189,11 +187,10 @@ class FlannWordIndex : public WordIndex {
       if (found == latest_point.end()) {
         throw Error("word " + std::to_string(word) + " is not in the dictionary's index history");
       }
-      point_of_word_[word] = found->second;
-      word_of_point_[found->second] = word;
+      points_.Set(word, found->second);
     }
     for (size_t point = 0; point < history.point_count; ++point) {
-      if (!word_of_point_.count(point)) index_->removePoint(point);
+      if (points_.WordOf(point) == kNoWord) index_->removePoint(point);
     }
     point_words_ = history.point_words;
     batch_starts_ = history.batch_starts;
@@ -221,9 +218,9 @@ class FlannWordIndex : public WordIndex {
     index_->knnSearch(query_matrix, index_matrix, distance_matrix, k, params);
     for (int row = 0; row < queries.rows; ++row) {
       for (size_t n = 0; n < k; ++n) {
-        const auto word = word_of_point_.find(index_matrix[row][n]);
-        if (word == word_of_point_.end()) continue;  // fewer than k found
-        result[row][n] = {word->second, TrueDistance(Distance(), distance_matrix[row][n])};
+        const WordId word = points_.WordOf(index_matrix[row][n]);
+        if (word == kNoWord) continue;  // fewer than k found
+        result[row][n] = {word, TrueDistance(Distance(), distance_matrix[row][n])};
       }
     }
     return result;
@@ -231,8 +228,8 @@ class FlannWordIndex : public WordIndex {
 
  private:
   const Element* Point(WordId id) const {
-    const auto found = point_of_word_.find(id);
-    return found == point_of_word_.end() ? nullptr : index_->getPoint(found->second);
+    const size_t point = points_.PointOf(id);
+    return point == PointMap::kNoPoint ? nullptr : index_->getPoint(point);
   }
 
   void CheckHistory(const IndexHistory& history) const {
@@ -258,11 +255,10 @@ class FlannWordIndex : public WordIndex {
     ++build_count_;
   }
 
-  // What the background thread makes: the index over the snapshot and its point <-> word maps.
+  // What the background thread makes: the index over the snapshot and its point <-> word map.
   struct Built {
     std::unique_ptr<Index> index;
-    std::unordered_map<WordId, size_t> point_of_word;
-    std::unordered_map<size_t, WordId> word_of_point;
+    PointMap points;
   };
   struct PendingBuild {
     std::vector<WordId> words;  // sorted: point k of the new index is words[k]
@@ -324,32 +320,25 @@ class FlannWordIndex : public WordIndex {
         });
   }
 
-  // The live words, sorted (so that the same history gives the same index), and (Snapshot) their
-  // descriptors row by row: what a full build is made from.
-  std::vector<WordId> LiveWords() const {
+  // The live words in id order (so that the same history gives the same index) and where their
+  // descriptors are: what a full build is made from.
+  std::pair<std::vector<WordId>, std::vector<const Element*>> LiveRows() const {
     std::vector<WordId> words;
-    words.reserve(point_of_word_.size());
-    for (const auto& entry : point_of_word_) words.push_back(entry.first);
-    std::sort(words.begin(), words.end());
-    return words;
-  }
-  std::pair<std::vector<WordId>, std::vector<Element>> Snapshot() const {
-    std::vector<WordId> words = LiveWords();
-    std::vector<Element> buffer(words.size() * dim());
-    for (size_t i = 0; i < words.size(); ++i) {
-      std::copy_n(Point(words[i]), dim(), buffer.data() + i * dim());
-    }
-    return {std::move(words), std::move(buffer)};
+    std::vector<const Element*> rows;
+    words.reserve(points_.size());
+    rows.reserve(points_.size());
+    points_.ForEachLive([&](WordId word, size_t point) {
+      words.push_back(word);
+      rows.push_back(index_->getPoint(point));
+    });
+    return {std::move(words), std::move(rows)};
   }
 
-  // The live words, sorted, and where their descriptors are: the build copies them itself, off
-  // the iteration (tens of megabytes at a few hundred thousand words). The rows stay valid while
-  // it runs: buffers are freed only by the swap that ends this build, or by Replay, which waits
-  // for it first.
+  // The build copies the rows itself, off the iteration (tens of megabytes at a few hundred
+  // thousand words). They stay valid while it runs: buffers are freed only by the swap that ends
+  // this build, or by Replay, which waits for it first.
   void StartBuild() {
-    std::vector<WordId> words = LiveWords();
-    std::vector<const Element*> rows(words.size());
-    for (size_t i = 0; i < words.size(); ++i) rows[i] = Point(words[i]);
+    auto [words, rows] = LiveRows();
     LaunchBuild(std::move(words), {}, std::move(rows), next_point_, 0);
   }
 
@@ -377,12 +366,12 @@ class FlannWordIndex : public WordIndex {
           Built built;
           built.index = BuildIndex<Distance>(
               flann::Matrix<Element>(points->data(), words_of_points->size(), dim), options);
-          // Room for the words the swap adds (rehashing these maps there took 20 ms at 270,000).
-          built.point_of_word.reserve(2 * words_of_points->size());
-          built.word_of_point.reserve(2 * words_of_points->size());
-          for (size_t point = 0; point < words_of_points->size(); ++point) {
-            built.point_of_word[(*words_of_points)[point]] = point;
-            built.word_of_point[point] = (*words_of_points)[point];
+          // Room for the words and points the swap adds, so that it does not reallocate.
+          const size_t count = words_of_points->size();
+          built.points.Reserve(count == 0 ? 0 : 2 * static_cast<size_t>(words_of_points->back()),
+                               2 * count);
+          for (size_t point = 0; point < count; ++point) {
+            built.points.Set((*words_of_points)[point], point);
           }
           return built;
         });
@@ -404,7 +393,7 @@ class FlannWordIndex : public WordIndex {
     LaunchBuild(history.pending_words, std::move(buffer), {}, history.pending_point,
                 history.pending_age);
     for (WordId word : history.pending_words) {  // live at the snapshot, removed since
-      if (!point_of_word_.count(word)) removed_since_snapshot_.push_back(word);
+      if (!points_.Contains(word)) removed_since_snapshot_.push_back(word);
     }
   }
 
@@ -441,13 +430,12 @@ class FlannWordIndex : public WordIndex {
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     size_t removed = 0;
     for (WordId word : changed) {
-      const auto in_snapshot = built.point_of_word.find(word);
-      if (in_snapshot == built.point_of_word.end()) continue;
-      const auto live = point_of_word_.find(word);
-      if (live != point_of_word_.end() && live->second < snapshot_point) continue;
-      built.index->removePoint(in_snapshot->second);
-      built.word_of_point.erase(in_snapshot->second);
-      built.point_of_word.erase(in_snapshot);
+      const size_t in_snapshot = built.points.PointOf(word);
+      if (in_snapshot == PointMap::kNoPoint) continue;
+      const size_t live = points_.PointOf(word);
+      if (live != PointMap::kNoPoint && live < snapshot_point) continue;
+      built.index->removePoint(in_snapshot);
+      built.points.Erase(word);
       ++removed;
     }
     // Points since the snapshot: point q is point snapshot_size + (q - snapshot_point) of the new
@@ -455,10 +443,8 @@ class FlannWordIndex : public WordIndex {
     for (size_t point = snapshot_point; point < next_point_; ++point) {
       const WordId word = point_words_[point];
       const size_t new_point = snapshot_size + (point - snapshot_point);
-      const auto live = point_of_word_.find(word);
-      if (live != point_of_word_.end() && live->second == point) {
-        built.point_of_word[word] = new_point;
-        built.word_of_point[new_point] = word;
+      if (points_.PointOf(word) == point) {
+        built.points.Set(word, new_point);
       } else {
         built.index->removePoint(new_point);
         ++removed;
@@ -478,11 +464,12 @@ class FlannWordIndex : public WordIndex {
     Retire();
     index_.swap(built.index);
     buffers_.swap(buffers);
-    point_of_word_.swap(built.point_of_word);
-    word_of_point_.swap(built.word_of_point);
+    std::swap(points_, built.points);
+    // The old forest, map and buffers are freed off the iteration: in the task's body, for what it
+    // captured is destroyed with the future, by whoever releases it last (Retire: this thread).
     retired_ = std::async(std::launch::async,
                           [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
-                            old.index.reset();  // the old forest and maps, freed off the iteration
+                            old = Built();
                             old_buffers.clear();
                           });
     std::vector<WordId> words = std::move(pending->words);
@@ -502,18 +489,20 @@ class FlannWordIndex : public WordIndex {
     return std::max(options_.rebuild_delay, static_cast<int>(snapshot_words / 10000));
   }
 
-  // Waits for the previous old forest to be freed (long done, in practice).
+  // Waits for the previous old forest to be freed (long done, in practice: when its captures
+  // were freed here, this took 15-37 ms at 400,000-900,000 words).
   void Retire() {
     if (retired_.valid()) retired_.get();
   }
 
   // A new index over the live points, in word order so the same history gives the same index.
   void Rebuild() {
-    auto [ids, buffer] = Snapshot();
+    const auto [ids, rows] = LiveRows();
+    std::vector<Element> buffer(ids.size() * dim());
+    for (size_t i = 0; i < ids.size(); ++i) std::copy_n(rows[i], dim(), buffer.data() + i * dim());
     index_.reset();
     buffers_.clear();
-    point_of_word_.clear();
-    word_of_point_.clear();
+    points_.Clear();
     size_at_build_ = ids.size();
     next_point_ = ids.size();
     changes_since_build_ = 0;
@@ -523,10 +512,7 @@ class FlannWordIndex : public WordIndex {
     batch_starts_.push_back(0);
     buffers_.push_back(std::move(buffer));
     Build(flann::Matrix<Element>(buffers_.back().data(), ids.size(), dim()));
-    for (size_t i = 0; i < ids.size(); ++i) {
-      point_of_word_[ids[i]] = i;
-      word_of_point_[i] = ids[i];
-    }
+    for (size_t i = 0; i < ids.size(); ++i) points_.Set(ids[i], i);
   }
 
   DictionaryOptions options_;
@@ -535,10 +521,9 @@ class FlannWordIndex : public WordIndex {
   std::future<void> retired_;                   // the old forest being freed after a swap
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
-  std::unordered_map<WordId, size_t> point_of_word_;
-  std::unordered_map<size_t, WordId> word_of_point_;  // live points only
-  std::vector<WordId> point_words_;                   // every point since the build (History)
-  std::vector<size_t> batch_starts_;                  // first point of each Add since the build
+  PointMap points_;                   // live words <-> their points
+  std::vector<WordId> point_words_;   // every point since the build (History)
+  std::vector<size_t> batch_starts_;  // first point of each Add since the build
   size_t next_point_ = 0;
   size_t size_at_build_ = 0;
   size_t changes_since_build_ = 0;
