@@ -3,6 +3,8 @@
 // ./build/bench/memloop_benchmarks --benchmark_repetitions=5 --benchmark_report_aggregates_only.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -113,6 +115,54 @@ void BM_DictionaryAddRemove(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_DictionaryAddRemove)->Arg(10000)->Arg(50000)->Unit(benchmark::kMillisecond);
+
+// One full cycle of the forest's background rebuild at N words, 64-d (SURF), as under T_time
+// (rebuild_swap_when_ready): per step 200 words added and 200 removed, until a build has started
+// and been swapped in. The counters are the step times: the start and the swap must not pause the
+// step that does them (issue 9).
+void BM_DictionaryBuildCycle(benchmark::State& state) {
+  constexpr int kDim = 64;
+  constexpr int kPerStep = 200;
+  DictionaryOptions options;
+  options.rebuild_swap_when_ready = true;
+  const auto descriptors = [](int rows, uint64_t seed) {
+    cv::Mat values(rows, kDim, CV_32F);
+    cv::RNG(seed).fill(values, cv::RNG::UNIFORM, 0.0, 1.0);
+    return values;
+  };
+  for (auto _ : state) {
+    state.PauseTiming();
+    Dictionary dictionary(DescriptorKind::kFloat, kDim, options);
+    std::vector<WordId> ids;
+    for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
+    dictionary.Add(ids, descriptors(static_cast<int>(ids.size()), 1));
+    const cv::Mat batch = descriptors(kPerStep, 3);
+    WordId next = static_cast<WordId>(ids.size()) + 1;
+    WordId oldest = 1;
+    state.ResumeTiming();
+    std::vector<double> step_ms;
+    const int builds = dictionary.index().build_count();
+    while (dictionary.index().build_count() < builds + 1) {
+      const auto start = std::chrono::steady_clock::now();
+      std::vector<WordId> added;
+      for (int i = 0; i < kPerStep; ++i) added.push_back(next++);
+      dictionary.Add(added, batch);
+      for (int i = 0; i < kPerStep; ++i) dictionary.Remove(oldest++);
+      step_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count());
+    }
+    std::sort(step_ms.begin(), step_ms.end());
+    state.counters["steps"] = static_cast<double>(step_ms.size());
+    state.counters["median_step_ms"] = step_ms[step_ms.size() / 2];
+    state.counters["max_step_ms"] = step_ms.back();
+  }
+}
+BENCHMARK(BM_DictionaryBuildCycle)
+    ->Arg(100000)
+    ->Arg(400000)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 // Eq. 3-4 from N scores, and eq. 2 over a chain of N locations.
 void BM_LikelihoodAndFilter(benchmark::State& state) {
