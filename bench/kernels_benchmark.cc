@@ -20,8 +20,8 @@
 namespace memloop {
 namespace {
 
-cv::Mat RandomDescriptors(int rows, uint64_t seed) {
-  cv::Mat descriptors(rows, 128, CV_32F);
+cv::Mat RandomDescriptors(int rows, uint64_t seed, int dim = 128) {
+  cv::Mat descriptors(rows, dim, CV_32F);
   cv::RNG(seed).fill(descriptors, cv::RNG::UNIFORM, 0.0, 1.0);
   return descriptors;
 }
@@ -125,18 +125,13 @@ void BM_DictionaryBuildCycle(benchmark::State& state) {
   constexpr int kPerStep = 200;
   DictionaryOptions options;
   options.rebuild_swap_when_ready = true;
-  const auto descriptors = [](int rows, uint64_t seed) {
-    cv::Mat values(rows, kDim, CV_32F);
-    cv::RNG(seed).fill(values, cv::RNG::UNIFORM, 0.0, 1.0);
-    return values;
-  };
   for (auto _ : state) {
     state.PauseTiming();
     Dictionary dictionary(DescriptorKind::kFloat, kDim, options);
     std::vector<WordId> ids;
     for (int i = 1; i <= state.range(0); ++i) ids.push_back(i);
-    dictionary.Add(ids, descriptors(static_cast<int>(ids.size()), 1));
-    const cv::Mat batch = descriptors(kPerStep, 3);
+    dictionary.Add(ids, RandomDescriptors(static_cast<int>(ids.size()), 1, kDim));
+    const cv::Mat batch = RandomDescriptors(kPerStep, 3, kDim);
     WordId next = static_cast<WordId>(ids.size()) + 1;
     WordId oldest = 1;
     state.ResumeTiming();

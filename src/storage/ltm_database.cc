@@ -2,7 +2,6 @@
 
 #include <sys/stat.h>
 
-#include <cassert>
 #include <cstring>
 #include <filesystem>
 #include <unordered_map>

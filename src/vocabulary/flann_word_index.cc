@@ -334,6 +334,13 @@ class FlannWordIndex : public WordIndex {
     return {std::move(words), std::move(rows)};
   }
 
+  // The rows' descriptors, one after the other.
+  static std::vector<Element> CopyRows(const std::vector<const Element*>& rows, int dim) {
+    std::vector<Element> buffer(rows.size() * dim);
+    for (size_t i = 0; i < rows.size(); ++i) std::copy_n(rows[i], dim, buffer.data() + i * dim);
+    return buffer;
+  }
+
   // The build copies the rows itself, off the iteration (tens of megabytes at a few hundred
   // thousand words). They stay valid while it runs: buffers are freed only by the swap that ends
   // this build, or by Replay, which waits for it first.
@@ -357,12 +364,7 @@ class FlannWordIndex : public WordIndex {
     pending_->built = std::async(
         std::launch::async,
         [points, rows = std::move(rows), words_of_points, dim = dim(), options = options_] {
-          if (!rows.empty()) {
-            points->resize(rows.size() * dim);
-            for (size_t i = 0; i < rows.size(); ++i) {
-              std::copy_n(rows[i], dim, points->data() + i * dim);
-            }
-          }
+          if (!rows.empty()) *points = CopyRows(rows, dim);
           Built built;
           built.index = BuildIndex<Distance>(
               flann::Matrix<Element>(points->data(), words_of_points->size(), dim), options);
@@ -498,8 +500,7 @@ class FlannWordIndex : public WordIndex {
   // A new index over the live points, in word order so the same history gives the same index.
   void Rebuild() {
     const auto [ids, rows] = LiveRows();
-    std::vector<Element> buffer(ids.size() * dim());
-    for (size_t i = 0; i < ids.size(); ++i) std::copy_n(rows[i], dim(), buffer.data() + i * dim());
+    std::vector<Element> buffer = CopyRows(rows, dim());
     index_.reset();
     buffers_.clear();
     points_.Clear();
