@@ -165,11 +165,13 @@ class Detector::Impl {
   }
 
   // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map,
-  // and a checkpoint so that it can be resumed.
+  // and a checkpoint so that it can be resumed. Written directly, not queued: no copy of WM's
+  // words is held beside the dictionary while they are written.
   void Close() {
     if (closed_) return;
     closed_ = true;
     if (failed_ || localizing_) return;
+    ltm_.WriteDirectly();
     std::set<WordId> words;
     for (const auto& [id, location] : memory_.locations()) {
       ltm_.Store(location);

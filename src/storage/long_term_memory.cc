@@ -32,6 +32,13 @@ size_t BytesOf(const Location& location) {
          location.images.size() * sizeof(ImageIndex);
 }
 
+// The error is reported under the map's name: drop it from the message if it has it already.
+std::string WriteFailure(const std::string& path, const std::exception& error) {
+  std::string what = error.what();
+  if (what.rfind(path + ": ", 0) == 0) what.erase(0, path.size() + 2);
+  return "writing the map failed: " + what;
+}
+
 }  // namespace
 
 LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
@@ -39,12 +46,24 @@ LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
     : path_(path),
       read_only_(mode == LtmDatabase::Mode::kRead),
       reader_(path, mode),
-      max_pending_bytes_(options.max_pending_bytes) {
+      max_pending_bytes_(options.max_pending_bytes),
+      max_page_count_(options.max_page_count) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
   if (!read_only_) writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
 LongTermMemory::~LongTermMemory() {
+  if (direct_) {
+    // As the writer would: without checkpoints every write is kept, with them only whole ones
+    // (an open transaction is rolled back when the connection closes).
+    if (last_checkpoint_sequence_ == 0 && direct_open_ && writer_failure_.empty()) {
+      try {
+        reader_.Commit();
+      } catch (const std::exception&) {  // a destructor cannot report; Flush() does
+      }
+    }
+    return;
+  }
   if (read_only_) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -112,6 +131,7 @@ void LongTermMemory::Enqueue(Operation operation) {
     if (!std::holds_alternative<CheckpointData>(operation)) Overlay(next_sequence_++, operation);
     return;
   }
+  if (direct_) return ApplyDirectly(operation);
   bool committable = false;
   {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -253,6 +273,7 @@ std::vector<LocationId> LongTermMemory::LinksOf(LocationId id) {
 }
 
 void LongTermMemory::Checkpoint(CheckpointData checkpoint) {
+  if (direct_) return ApplyDirectly(checkpoint);
   {
     std::unique_lock<std::mutex> lock(mutex_);
     ThrowIfFailedLocked();
@@ -268,8 +289,57 @@ bool LongTermMemory::CheckpointInFlight() const {
 
 void LongTermMemory::Flush() {
   if (read_only_) return;
+  if (direct_) {
+    ThrowIfFailedLocked();
+    if (last_checkpoint_sequence_ == 0 && direct_open_) {
+      reader_.Commit();
+      direct_open_ = false;
+    }
+    return;
+  }
   std::unique_lock<std::mutex> lock(mutex_);
   WaitForWriterLocked(lock, [this] { return committed_sequence_ >= CommittableSequenceLocked(); });
+}
+
+void LongTermMemory::WriteDirectly() {
+  if (read_only_ || direct_) return;
+  Flush();  // everything up to the last checkpoint; what follows it stays queued
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_writer_.notify_one();
+  writer_.join();  // from here on this is the only thread: no lock needed
+  ThrowIfFailedLocked();
+  if (max_page_count_ > 0) reader_.LimitPages(max_page_count_);
+  direct_ = true;
+  for (const Queued& queued : queue_) ApplyDirectly(queued.operation);
+  queue_.clear();
+  pending_bytes_ = 0;
+  // reader_ now sees every write: the overlay has nothing left to add.
+  pending_locations_.clear();
+  pending_words_.clear();
+  pending_renames_.clear();
+  pending_redirects_.clear();
+  pending_links_.clear();
+}
+
+void LongTermMemory::ApplyDirectly(const Operation& operation) {
+  ThrowIfFailedLocked();
+  if (!direct_open_) {
+    reader_.Begin();
+    direct_open_ = true;
+  }
+  try {
+    Apply(reader_, operation);
+  } catch (const std::exception& error) {
+    writer_failure_ = WriteFailure(path_, error);
+    throw DatabaseError(path_, writer_failure_);
+  }
+  if (std::holds_alternative<CheckpointData>(operation)) {
+    reader_.Commit();
+    direct_open_ = false;
+  }
 }
 
 void LongTermMemory::CheckWriter() {
@@ -360,11 +430,8 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
       committed_.notify_all();
     }
   } catch (const std::exception& error) {
-    // The error is reported under the map's name: drop it from the message if it has it already.
-    std::string what = error.what();
-    if (what.rfind(path_ + ": ", 0) == 0) what.erase(0, path_.size() + 2);
     std::lock_guard<std::mutex> lock(mutex_);
-    writer_failure_ = "writing the map failed: " + what;
+    writer_failure_ = WriteFailure(path_, error);
     committed_.notify_all();
   }
 }

@@ -251,5 +251,82 @@ TEST(LongTermMemoryTest, KilledWriterLeavesTheFileAtACheckpoint) {
   }
 }
 
+// Closing: the caller writes, in one transaction with what was still queued, committed at the
+// next checkpoint; nothing is held in a queue meanwhile, and reads see the writes.
+TEST(LongTermMemoryTest, DirectWritesCommitAtTheNextCheckpoint) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LongTermMemory ltm(path);
+    ltm.Store(MakeLocation(1, {1}));
+    ltm.Checkpoint(StateCheckpoint(1));
+    ltm.Store(MakeLocation(2, {2}));  // queued after the checkpoint
+    ltm.WriteDirectly();
+    ltm.Store(MakeLocation(3, {3}));
+    ltm.StoreWord(3, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
+    ltm.ReplaceWord(2, 3);
+    EXPECT_EQ(ltm.pending_bytes(), 0u);
+    EXPECT_FALSE(ltm.CheckpointInFlight());
+    EXPECT_EQ(ltm.Peek(2)->signature.words, std::vector<WordId>{3});
+    EXPECT_EQ(ltm.LinksOf(3), (std::vector<LocationId>{2, 4}));
+    EXPECT_EQ(*ltm.LoadWord(3), testing::FloatBytes({0.5f, 0.25f}));
+    ltm.Checkpoint(StateCheckpoint(2));
+    ltm.Store(MakeLocation(4, {4}));  // after the last checkpoint: dropped
+    ltm.Flush();
+  }
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  for (LocationId id : {1, 2, 3}) EXPECT_TRUE(database.ReadLocation(id).has_value()) << id;
+  EXPECT_FALSE(database.ReadLocation(4).has_value());
+  EXPECT_EQ(database.ReadLocation(2)->signature.words, std::vector<WordId>{3});
+  EXPECT_EQ(*database.ReadState("test"), std::vector<unsigned char>{2});
+}
+
+// Without checkpoints every write is kept, queued or direct.
+TEST(LongTermMemoryTest, DirectWritesWithoutCheckpointsAreKept) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  {
+    LongTermMemory ltm(path);
+    ltm.Store(MakeLocation(1, {1}));
+    ltm.WriteDirectly();
+    ltm.Store(MakeLocation(2, {2}));
+  }
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  EXPECT_TRUE(database.ReadLocation(1).has_value());
+  EXPECT_TRUE(database.ReadLocation(2).has_value());
+}
+
+// A full disk during a close: the error names the map, later calls fail too, and the file keeps
+// its last checkpoint.
+TEST(LongTermMemoryTest, DirectWriteFailureKeepsTheLastCheckpoint) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  LtmOptions options;
+  options.max_page_count = 12;
+  {
+    LongTermMemory ltm(path, LtmDatabase::Mode::kCreate, options);
+    ltm.Store(MakeLocation(1, {1}));
+    ltm.Checkpoint(StateCheckpoint(1));
+    ltm.WriteDirectly();
+    bool failed = false;
+    for (int id = 2; id <= 2000 && !failed; ++id) {
+      try {
+        ltm.Store(MakeLocation(id, std::vector<WordId>(100, id)));
+      } catch (const DatabaseError& error) {
+        failed = true;
+        EXPECT_NE(std::string(error.what()).find(path), std::string::npos);
+        EXPECT_NE(std::string(error.what()).find("writing the map failed"), std::string::npos);
+      }
+    }
+    EXPECT_TRUE(failed);
+    EXPECT_THROW(ltm.CheckWriter(), DatabaseError);
+    EXPECT_THROW(ltm.Checkpoint(StateCheckpoint(2)), DatabaseError);
+  }
+  LtmDatabase database(path, LtmDatabase::Mode::kOpen);
+  EXPECT_TRUE(database.ReadLocation(1).has_value());
+  EXPECT_FALSE(database.ReadLocation(2).has_value());
+  EXPECT_EQ(*database.ReadState("test"), std::vector<unsigned char>{1});
+}
+
 }  // namespace
 }  // namespace memloop
