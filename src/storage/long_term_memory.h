@@ -174,8 +174,8 @@ class LongTermMemory {
   std::deque<Queued> queue_;
   size_t max_pending_bytes_;
   long long max_page_count_;
-  bool direct_ = false;          // WriteDirectly(): no writer, reader_ writes
-  bool direct_open_ = false;     // a transaction of reader_ is open
+  bool direct_ = false;       // WriteDirectly(): no writer, reader_ writes
+  bool direct_open_ = false;  // a transaction of reader_ is open
   size_t pending_bytes_ = 0;
   int waiting_ = 0;  // threads waiting for the writer: a held writer then goes on
   bool held_ = false;
