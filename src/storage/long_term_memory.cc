@@ -56,11 +56,9 @@ LongTermMemory::~LongTermMemory() {
   if (direct_) {
     // As the writer would: without checkpoints every write is kept, with them only whole ones
     // (an open transaction is rolled back when the connection closes).
-    if (last_checkpoint_sequence_ == 0 && direct_open_ && writer_failure_.empty()) {
-      try {
-        reader_.Commit();
-      } catch (const std::exception&) {  // a destructor cannot report; Flush() does
-      }
+    try {
+      Flush();
+    } catch (const std::exception&) {  // a destructor cannot report; Flush() and calls before do
     }
     return;
   }
@@ -310,7 +308,6 @@ void LongTermMemory::WriteDirectly() {
   }
   wake_writer_.notify_one();
   writer_.join();  // from here on this is the only thread: no lock needed
-  ThrowIfFailedLocked();
   if (max_page_count_ > 0) reader_.LimitPages(max_page_count_);
   direct_ = true;
   for (const Queued& queued : queue_) ApplyDirectly(queued.operation);
@@ -326,19 +323,19 @@ void LongTermMemory::WriteDirectly() {
 
 void LongTermMemory::ApplyDirectly(const Operation& operation) {
   ThrowIfFailedLocked();
-  if (!direct_open_) {
-    reader_.Begin();
-    direct_open_ = true;
-  }
   try {
+    if (!direct_open_) {
+      reader_.Begin();
+      direct_open_ = true;
+    }
     Apply(reader_, operation);
+    if (std::holds_alternative<CheckpointData>(operation)) {
+      reader_.Commit();
+      direct_open_ = false;
+    }
   } catch (const std::exception& error) {
     writer_failure_ = WriteFailure(path_, error);
     throw DatabaseError(path_, writer_failure_);
-  }
-  if (std::holds_alternative<CheckpointData>(operation)) {
-    reader_.Commit();
-    direct_open_ = false;
   }
 }
 
