@@ -12,6 +12,7 @@
 
 #include "detector/bayes_filter.h"
 #include "detector/likelihood.h"
+#include "detector/memory.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
@@ -177,6 +178,40 @@ void BM_LikelihoodAndFilter(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_LikelihoodAndFilter)->Arg(100)->Arg(1000)->Arg(5000)->Unit(benchmark::kMillisecond);
+
+// The filter's neighbourhoods (range 4) of every WM location: a chain of N locations, one loop
+// closure every 50. Arg 1: N; Arg 2: 1 = all at once (Memory::WmNeighbourhoods), 0 = one search per
+// location (Memory::WmNeighbourhood, how they were computed before).
+void BM_WmNeighbourhoods(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  DictionaryOptions dictionary_options;
+  Memory memory(DescriptorKind::kFloat, 2, dictionary_options);
+  std::vector<LocationId> ids;
+  for (int i = 0; i < n; ++i) {
+    ids.push_back(memory.AddToStm(Signature(), i, ids.empty() ? kNoLocation : ids.back()).id);
+    if (i >= 100 && i % 50 == 0) {
+      memory.at(ids.back()).loop_closures.insert(ids[i - 100]);
+      memory.at(ids[i - 100]).loop_closures.insert(ids.back());
+    }
+  }
+  memory.MoveStmOverflowToWm(20);
+  for (auto _ : state) {
+    if (state.range(1) == 1) {
+      benchmark::DoNotOptimize(memory.WmNeighbourhoods(4));
+    } else {
+      Neighbourhoods neighbourhoods;
+      for (LocationId id : memory.working_memory())
+        neighbourhoods[id] = memory.WmNeighbourhood(id, 4);
+      benchmark::DoNotOptimize(neighbourhoods);
+    }
+  }
+}
+BENCHMARK(BM_WmNeighbourhoods)
+    ->Args({500, 0})
+    ->Args({500, 1})
+    ->Args({2000, 0})
+    ->Args({2000, 1})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace memloop

@@ -4,13 +4,15 @@
 # of the unbounded run's max WM. T_time is off in every row (repeatable: the same input gives the
 # same table on any machine; only the times differ). Usage:
 #   bench/real_data.sh [DATASETS_DIR] > table.md     (default ../shared/datasets)
-# Environment: PRESETS="default paper2011", FEATURES="surf sift orb", BUILD_DIR=build.
+# Environment: PRESETS="default paper2011", FEATURES="surf sift orb", BUILD_DIR=build,
+# SETS="name=value ..." (more parameters for every row, e.g. to measure a change of default).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 datasets=${1:-../shared/datasets}
 presets=${PRESETS:-default paper2011}
 features=${FEATURES:-surf sift orb}
+read -r -a sets <<<"${SETS:-}"
 if [ ! -d "$datasets" ]; then
   echo "real_data.sh: $datasets is absent (the data sets ship beside the project): nothing to run" >&2
   exit 0
@@ -18,7 +20,7 @@ fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
-echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')${SETS:+; --set $SETS}"
 echo
 echo "| data set | preset | features | WM budget | recall @100% P | T_loop at it | precision @T_loop | recall @T_loop | false pos. | median ms | max ms | max WM |"
 echo "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
@@ -27,6 +29,7 @@ row() {  # dataset preset features budget
   local name=$1 preset=$2 feature=$3 budget=$4 csv="$out/run.csv"
   "$build/memloop" run "$datasets/$name/images" --preset "$preset" --set memory.time_limit_ms=0 \
     --set features.type="$feature" --set memory.max_wm_locations="$budget" \
+    ${sets[@]+--set "${sets[@]}"} \
     --db "$out/map.db" --out "$csv" >/dev/null
   rm -f "$out"/map.db*
   "$build/memloop" eval "$csv" "$datasets/$name/ground_truth.bmp" --json >"$out/eval.json"

@@ -90,18 +90,41 @@ TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
   EXPECT_EQ(Score(route, results).false_positives, 0);
 }
 
+// memory.retrieval_min_value: the highest hypothesis' LTM neighbours come back only when its value
+// reaches the threshold (retrieval by appearance off, so that every retrieval is the hypothesis').
+TEST(DetectorIntegrationTest, RetrievalWaitsForAHypothesisValue) {
+  const SyntheticRoute route;
+  Options options = Deterministic();
+  options.memory.max_wm_locations = 30;
+  options.memory.appearance_retrieval = 0;
+  options.memory.retrieval_min_value = 0.05;
+  int retrievals = 0;
+  for (const Result& result : RunRoute(route, options, false)) {
+    if (result.retrieved_ids.empty()) continue;
+    ++retrievals;
+    EXPECT_GE(result.hypothesis_value, 0.05) << result.Brief();
+  }
+  EXPECT_GT(retrievals, 0);
+  options.memory.retrieval_min_value = 1.0;  // the whole posterior on loop closures: never here
+  for (const Result& result : RunRoute(route, options, false)) {
+    EXPECT_TRUE(result.retrieved_ids.empty()) << result.Brief();
+  }
+}
+
 // Issue 8: recall degrades gracefully as the WM budget shrinks (the highest hypothesis'
 // neighbourhood leaves WM last). Under a small budget a revisit is found only once a retrieval
 // happens to bring its place back from LTM, so one route is a single draw: small differences (the
 // forest's rebuild schedule) move one seed's recall at WM 20 anywhere from 2% to 90%. The floors
-// are on the mean over six routes, a margin under the measured 48% / 80% / 98% (rebuild_delay 30;
-// 45% / 82% / 98% with rebuild_delay 0); the paper2011 preset gives 0% and 14% on seed 7 alone.
+// are on the mean over six routes, a margin under the measured 42% / 65% / 97% at WM 20 / 30 / 45
+// (65% / 68% / 97.5% with memory.retrieval_min_value=0: retrievals for a hypothesis at noise level
+// cycle a small LTM through WM, which helps on a 300-image route and is pure cost at scale,
+// docs/design.md); the paper2011 preset gives 0% and 14% on seed 7 alone.
 // Known gap: an image just after a revisited stretch (the first of the second detour, image 190)
 // is sometimes accepted, budget or not: at most 3 false positives over the six routes.
 // Command: memloop demo --seed S --set memory.time_limit_ms=0 memory.max_wm_locations=N
 TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets) {
   const std::vector<int> seeds = {1, 2, 3, 4, 5, 7};
-  const std::map<int, double> floors = {{20, 0.30}, {30, 0.65}, {45, 0.90}};
+  const std::map<int, double> floors = {{20, 0.30}, {30, 0.55}, {45, 0.90}};
   for (const auto& [budget, floor] : floors) {
     std::vector<std::future<PrecisionRecall>> runs;
     for (int seed : seeds) {  // two at a time: the machine has 2 cores

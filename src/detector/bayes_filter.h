@@ -14,9 +14,6 @@
 
 namespace memloop {
 
-// WM location -> its neighbourhood within WM (itself at distance 0).
-using Neighbourhoods = std::map<LocationId, Neighbourhood>;
-
 class BayesFilter {
  public:
   explicit BayesFilter(const FilterOptions& options);
@@ -44,6 +41,11 @@ class BayesFilter {
   void Remove(LocationId id) { posterior_.erase(id); }
 
  private:
+  // The Gaussian's unnormalized value at each link distance 0..neighbour_range.
+  std::vector<double> TransitionWeights() const;
+  std::vector<std::pair<LocationId, double>> NeighbourTransition(
+      const Neighbourhood& j, const std::vector<double>& weights) const;
+
   FilterOptions options_;
   std::map<LocationId, double> posterior_;
   double virtual_place_ = 1.0;  // before any image: surely a new location

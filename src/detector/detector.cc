@@ -362,10 +362,7 @@ class Detector::Impl {
 
   Neighbourhoods UpdateFilter(const Likelihood& likelihood, Result& result) {
     ScopedTimer timer(&result.times.filter_ms);
-    Neighbourhoods neighbourhoods;
-    for (LocationId id : memory_.working_memory()) {
-      neighbourhoods[id] = memory_.WmNeighbourhood(id, options_.filter.neighbour_range);
-    }
+    const Neighbourhoods neighbourhoods = memory_.WmNeighbourhoods(options_.filter.neighbour_range);
     filter_.Update(likelihood, neighbourhoods);
     return neighbourhoods;
   }
@@ -467,8 +464,10 @@ class Detector::Impl {
     const StepDeadline deadline = options_.memory.retrieval_within_time
                                       ? DeadlineOf(iteration, &retrieval_cost_)
                                       : StepDeadline();
+    const bool worth_it = hypothesis.value >= options_.memory.retrieval_min_value;
     RetrievalOutcome outcome =
-        Retrieve(hypothesis.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
+        Retrieve(worth_it ? hypothesis.id : kNoLocation, options_.memory.max_retrieved, range,
+                 memory_, ltm_, deadline);
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
     if (appearance_ && appearance != nullptr) {

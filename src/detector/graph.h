@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,8 @@ namespace memloop {
 
 // (location, links away), the start at 0, sorted by distance then id.
 using Neighbourhood = std::vector<std::pair<LocationId, int>>;
+// WM location -> its neighbourhood within WM (itself at distance 0).
+using Neighbourhoods = std::map<LocationId, Neighbourhood>;
 using LinksFunction = std::function<std::vector<LocationId>(LocationId)>;
 
 // Every location within `range` links of `start`, following `links_of`.

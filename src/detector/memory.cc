@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <unordered_map>
 
 #include "memloop/errors.h"
 
@@ -159,6 +160,63 @@ Neighbourhood Memory::WmNeighbourhood(LocationId id, int range) const {
     if (InWorkingMemory(entry.first)) in_wm.push_back(entry);
   }
   return in_wm;
+}
+
+Neighbourhoods Memory::WmNeighbourhoods(int range) const {
+  // Dense indices in id order (locations_ is sorted), so sorting indices sorts ids.
+  std::vector<LocationId> ids;
+  std::vector<const Location*> nodes;
+  ids.reserve(locations_.size());
+  nodes.reserve(locations_.size());
+  std::unordered_map<LocationId, int> index;
+  for (const auto& [id, location] : locations_) {
+    index.emplace(id, static_cast<int>(ids.size()));
+    ids.push_back(id);
+    nodes.push_back(&location);
+  }
+  std::vector<std::vector<int>> adjacency(ids.size());
+  std::vector<char> in_wm(ids.size(), 0);
+  auto wm = working_memory_.begin();  // sorted as ids: walked alongside, not searched
+  for (size_t i = 0; i < ids.size(); ++i) {
+    for (const auto* links : {&nodes[i]->neighbours, &nodes[i]->loop_closures}) {
+      for (LocationId link : *links) {
+        const auto found = index.find(link);
+        if (found != index.end()) adjacency[i].push_back(found->second);
+      }
+    }
+    if (wm != working_memory_.end() && *wm == ids[i]) {
+      in_wm[i] = 1;
+      ++wm;
+    }
+  }
+  Neighbourhoods result;
+  std::vector<int> seen_from(ids.size(), -1);  // the start whose search last reached it
+  std::vector<int> frontier, next;
+  for (int start = 0; start < static_cast<int>(ids.size()); ++start) {
+    if (!in_wm[start]) continue;
+    const LocationId id = ids[start];
+    Neighbourhood& neighbourhood = result.emplace_hint(result.end(), id, Neighbourhood())->second;
+    neighbourhood.emplace_back(id, 0);
+    seen_from[start] = start;
+    frontier.assign(1, start);
+    for (int distance = 1; distance <= range && !frontier.empty(); ++distance) {
+      next.clear();
+      for (int node : frontier) {
+        for (int link : adjacency[node]) {
+          if (seen_from[link] != start) {
+            seen_from[link] = start;
+            next.push_back(link);
+          }
+        }
+      }
+      std::sort(next.begin(), next.end());
+      for (int node : next) {
+        if (in_wm[node]) neighbourhood.emplace_back(ids[node], distance);
+      }
+      frontier.swap(next);
+    }
+  }
+  return result;
 }
 
 void Memory::ReferenceWords(const Location& location) {

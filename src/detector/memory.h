@@ -86,6 +86,9 @@ class Memory {
   std::vector<LocationId> LinksOf(LocationId id) const;
   // WM locations within `range` links of a WM location, over links among STM and WM.
   Neighbourhood WmNeighbourhood(LocationId id, int range) const;
+  // WmNeighbourhood of every WM location, the same answers computed together (the filter needs
+  // all of them at every image: one adjacency of STM and WM instead of one per search).
+  Neighbourhoods WmNeighbourhoods(int range) const;
 
  private:
   void ReferenceWords(const Location& location);

@@ -51,5 +51,27 @@ TEST(MemoryTest, WorkingMemoryNeighbourhoodPassesThroughStmButHoldsOnlyWm) {
   EXPECT_EQ(memory.WmNeighbourhood(ids[0], 4), expected);
 }
 
+TEST(MemoryTest, AllWorkingMemoryNeighbourhoodsAtOnceGiveEachOnesAnswer) {
+  Memory memory(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  const auto ids =
+      testing::AddChain(memory, {{1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}, {11}, {12}});
+  memory.MoveStmOverflowToWm(4);                    // WM: L1..L8; STM: L9..L12
+  memory.at(ids[10]).loop_closures.insert(ids[1]);  // L11 <-> L2
+  memory.at(ids[1]).loop_closures.insert(ids[10]);
+  std::vector<WordId> orphans;
+  memory.Release(ids[4], &orphans);  // L5 to LTM: L4's and L6's links to it stay
+  const Neighbourhoods all = memory.WmNeighbourhoods(2);
+  ASSERT_EQ(all.size(), memory.working_memory().size());
+  // By hand: L2 reaches L1, L3 and (through STM's L11) L10, L12 of STM, then L4 at 2.
+  EXPECT_EQ(all.at(ids[1]), (Neighbourhood{{ids[1], 0}, {ids[0], 1}, {ids[2], 1}, {ids[3], 2}}));
+  EXPECT_EQ(all.at(ids[3]), (Neighbourhood{{ids[3], 0}, {ids[2], 1}, {ids[1], 2}}));  // not L5
+  EXPECT_EQ(all.at(ids[7]), (Neighbourhood{{ids[7], 0}, {ids[6], 1}, {ids[5], 2}}));
+  EXPECT_EQ(memory.WmNeighbourhoods(3).at(ids[0]),
+            (Neighbourhood{{ids[0], 0}, {ids[1], 1}, {ids[2], 2}, {ids[3], 3}}));
+  for (LocationId id : memory.working_memory()) {
+    EXPECT_EQ(all.at(id), memory.WmNeighbourhood(id, 2)) << "location " << id;
+  }
+}
+
 }  // namespace
 }  // namespace memloop

@@ -98,6 +98,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none); bounds memory, about 1.7 KB per word"),
     Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
+    Param("memory.retrieval_min_value", MEMLOOP_FIELD(memory.retrieval_min_value)).Range(0, 1)
+        .Help("The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared with T_loop) reaches this (0 = whatever the value, the paper)"),
     Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()
         .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")

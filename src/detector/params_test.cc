@@ -52,13 +52,14 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
   for (const Parameter& parameter : Parameters()) {
     if (parameter.Get(defaults) != parameter.Get(paper)) departures.insert(parameter.key);
   }
-  EXPECT_EQ(departures,
-            (std::set<std::string>{"surf.upright", "memory.stm_size", "memory.protect_hypothesis",
-                                   "filter.loop_threshold", "filter.hypothesis_value",
-                                   "filter.require_support", "filter.ltm_neighbour_check",
-                                   "memory.time_target", "memory.transfer_max_fraction",
-                                   "sift.upright", "orb.upright", "memory.appearance_retrieval",
-                                   "memory.retrieval_within_time", "memory.max_dictionary_words"}));
+  EXPECT_EQ(
+      departures,
+      (std::set<std::string>{
+          "surf.upright", "memory.stm_size", "memory.protect_hypothesis", "filter.loop_threshold",
+          "filter.hypothesis_value", "filter.require_support", "filter.ltm_neighbour_check",
+          "memory.time_target", "memory.transfer_max_fraction", "sift.upright", "orb.upright",
+          "memory.appearance_retrieval", "memory.retrieval_within_time",
+          "memory.max_dictionary_words", "memory.retrieval_min_value"}));
 }
 
 TEST(ParamsTest, PresetsByName) {
