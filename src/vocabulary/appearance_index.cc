@@ -108,6 +108,9 @@ void AppearanceIndex::Enter(LocationId id) {
   const Appearance* appearance = Find(id);
   if (appearance == nullptr || !searched_.insert(id).second) return;
   for (AppearanceEntry entry : *appearance) postings_[entry].push_back(id);
+  const auto slot = static_cast<size_t>(id);
+  if (slot >= sizes_.size()) sizes_.resize(std::max(slot + 1, 2 * sizes_.size()), 0);
+  sizes_[slot] = static_cast<uint32_t>(appearance->size());
 }
 
 void AppearanceIndex::Leave(LocationId id) {
@@ -154,10 +157,19 @@ AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
     }
   }
   // Summed in id order, so that a resumed map (its postings in another order) gives the same z.
-  std::sort(touched.begin(), touched.end());
+  // When most locations are touched, walking the score array in order is cheaper than sorting
+  // (at 47,000 LTM locations this search had grown to ~2.5 ms a median image).
+  if (touched.size() * 16 < scores_.size()) {
+    std::sort(touched.begin(), touched.end());
+  } else {
+    touched.clear();
+    for (size_t id = 0; id < scores_.size(); ++id) {
+      if (scores_[id] != 0) touched.push_back(static_cast<LocationId>(id));
+    }
+  }
   double sum = 0, sum_squares = 0;
   for (LocationId id : touched) {
-    const double score = Normalized(scores_[id], query.size(), appearances_.at(id).size());
+    const double score = Normalized(scores_[id], query.size(), sizes_[id]);
     scores_[id] = 0;
     sum += score;
     sum_squares += score * score;

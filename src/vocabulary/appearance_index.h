@@ -96,6 +96,7 @@ class AppearanceIndex {
   std::unordered_set<LocationId> searched_;
   std::vector<std::vector<LocationId>> postings_;  // entry -> searched locations holding it
   mutable std::vector<double> scores_;             // by location id, zero between searches
+  std::vector<uint32_t> sizes_;                    // by location id: its description's size
 };
 
 }  // namespace memloop
