@@ -42,8 +42,7 @@ void BayesFilter::Update(const Likelihood& likelihood, const Neighbourhoods& nei
   const size_t wm_size = likelihood.values.size();
 
   // Prediction (the "belief" of eq. 2): sum over previous states of transition * prior. The
-  // states are WM's, in id order; `index` finds a neighbour's (a map per image cost 2-5 ms at
-  // WM 2,000).
+  // states are WM's, in id order, in an array; `index` finds a neighbour's (docs/benchmarks.md).
   std::unordered_map<LocationId, size_t> index;
   index.reserve(wm_size);
   for (const auto& [id, value] : likelihood.values) index.emplace(id, index.size());

@@ -454,7 +454,8 @@ class Detector::Impl {
     editor_.AbsorbPastMatches(near_highest);
   }
 
-  // III-E: the highest hypothesis' LTM neighbours; then, with retrieval by appearance, the LTM
+  // III-E: the highest hypothesis' LTM neighbours, when its value reaches
+  // memory.retrieval_min_value (below, it is noise); then, with retrieval by appearance, the LTM
   // location that looks most like the image (`appearance`) and its neighbours, when it stands out.
   // With T_time on, each only if it still fits (memory.retrieval_within_time).
   void RetrieveFromLtm(const Stopwatch& iteration, const Hypothesis& hypothesis,
@@ -464,9 +465,9 @@ class Detector::Impl {
     const StepDeadline deadline = options_.memory.retrieval_within_time
                                       ? DeadlineOf(iteration, &retrieval_cost_)
                                       : StepDeadline();
-    const bool worth_it = hypothesis.value >= options_.memory.retrieval_min_value;
+    const bool above_noise = hypothesis.value >= options_.memory.retrieval_min_value;
     RetrievalOutcome outcome =
-        Retrieve(worth_it ? hypothesis.id : kNoLocation, options_.memory.max_retrieved, range,
+        Retrieve(above_noise ? hypothesis.id : kNoLocation, options_.memory.max_retrieved, range,
                  memory_, ltm_, deadline);
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
