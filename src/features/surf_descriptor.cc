@@ -38,15 +38,25 @@ void DescribeOne(const IntegralImage& image, const cv::KeyPoint& keypoint, doubl
           (side * side);
     }
   }
+  // The Gaussian (sigma = 3.3s) at each of the 20x20 samples, the same for every keypoint.
+  static const std::array<double, 400> kWeights = [] {
+    std::array<double, 400> weights{};
+    for (int k = 0; k < 20; ++k) {
+      const double v = k - 9.5;
+      for (int l = 0; l < 20; ++l) {
+        const double u = l - 9.5;
+        weights[k * 20 + l] = std::exp(-(u * u + v * v) / (2 * 3.3 * 3.3));
+      }
+    }
+    return weights;
+  }();
   const int values_per_region = extended ? 8 : 4;
   std::fill(out, out + 16 * values_per_region, 0.0f);
   for (int k = 0; k < 20; ++k) {
-    const double v = k - 9.5;
     for (int l = 0; l < 20; ++l) {
-      const double u = l - 9.5;
       const float* top = &patch[k * kGrid + l];
       const float* bottom = top + kGrid;
-      const double weight = std::exp(-(u * u + v * v) / (2 * 3.3 * 3.3));  // sigma = 3.3s
+      const double weight = kWeights[k * 20 + l];
       const float du = static_cast<float>(weight * (top[1] + bottom[1] - top[0] - bottom[0]) / 2);
       const float dv = static_cast<float>(weight * (bottom[0] + bottom[1] - top[0] - top[1]) / 2);
       float* region = out + ((k / 5) * 4 + l / 5) * values_per_region;
