@@ -3,7 +3,7 @@
 #   make test   installs what is missing, builds, runs every test through ctest
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
-PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev liblz4-dev libsqlite3-dev \
+PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev liblz4-dev libsqlite3-dev \
             libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
             libbenchmark-dev libmatio-dev gnuplot-nox pybind11-dev python3-dev python3-numpy
 # Only the tests need a browser (they open `memloop report` in headless Chromium), pytest and

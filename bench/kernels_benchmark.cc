@@ -163,7 +163,7 @@ BENCHMARK(BM_DictionaryBuildCycle)
 // Eq. 3-4 from N scores, and eq. 2 over a chain of N locations.
 void BM_LikelihoodAndFilter(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  std::map<LocationId, double> scores;
+  IdMap<double> scores;
   Neighbourhoods neighbourhoods;
   for (int id = 1; id <= n; ++id) {
     scores[id] = (id % 7) * 0.02;

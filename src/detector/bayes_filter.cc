@@ -1,7 +1,6 @@
 #include "detector/bayes_filter.h"
 
 #include <cmath>
-#include <unordered_map>
 
 namespace memloop {
 
@@ -16,24 +15,25 @@ std::vector<double> BayesFilter::TransitionWeights() const {
   return weights;
 }
 
-std::vector<std::pair<LocationId, double>> BayesFilter::NeighbourTransition(
-    const Neighbourhood& j, const std::vector<double>& weights) const {
-  std::vector<std::pair<LocationId, double>> column;
+double BayesFilter::ColumnScale(const Neighbourhood& j, const std::vector<double>& weights) const {
   double total = 0;
   for (const auto& [id, distance] : j) {
-    if (distance > options_.neighbour_range) continue;
-    column.emplace_back(id, weights[distance]);
-    total += weights[distance];
+    if (distance <= options_.neighbour_range) total += weights[distance];
   }
   // The paper's line of 9 locations (j-4..j+4) is one case; in a graph with loop closures the
   // neighbours at each distance vary, so each column is normalized to the same sum.
-  for (auto& entry : column) entry.second *= options_.virtual_place_stay / total;
-  return column;
+  return options_.virtual_place_stay / total;
 }
 
 std::vector<std::pair<LocationId, double>> BayesFilter::NeighbourTransition(
     const Neighbourhood& j) const {
-  return NeighbourTransition(j, TransitionWeights());
+  const std::vector<double> weights = TransitionWeights();
+  const double scale = ColumnScale(j, weights);
+  std::vector<std::pair<LocationId, double>> column;
+  for (const auto& [id, distance] : j) {
+    if (distance <= options_.neighbour_range) column.emplace_back(id, weights[distance] * scale);
+  }
+  return column;
 }
 
 void BayesFilter::Update(const Likelihood& likelihood, const Neighbourhoods& neighbourhoods) {
@@ -42,10 +42,8 @@ void BayesFilter::Update(const Likelihood& likelihood, const Neighbourhoods& nei
   const size_t wm_size = likelihood.values.size();
 
   // Prediction (the "belief" of eq. 2): sum over previous states of transition * prior. The
-  // states are WM's, in id order, in an array; `index` finds a neighbour's (docs/benchmarks.md).
-  std::unordered_map<LocationId, size_t> index;
-  index.reserve(wm_size);
-  for (const auto& [id, value] : likelihood.values) index.emplace(id, index.size());
+  // states are WM's, in id order, in an array (docs/benchmarks.md).
+  const auto& states = likelihood.values;
   std::vector<double> belief(wm_size, wm_size > 0 ? leave / wm_size * virtual_place_ : 0.0);
   const std::vector<double> weights = TransitionWeights();
   double previous_loop_mass = 0;
@@ -56,15 +54,20 @@ void BayesFilter::Update(const Likelihood& likelihood, const Neighbourhoods& nei
       continue;  // j left WM
     }
     previous_loop_mass += prior;
-    for (const auto& [i, transition] : NeighbourTransition(neighbourhood->second, weights)) {
-      const auto state = index.find(i);
-      if (state != index.end()) belief[state->second] += transition * prior;  // part 4
+    // Part 4: NeighbourTransition's column, walked without being built.
+    const double scale = ColumnScale(neighbourhood->second, weights);
+    for (const auto& [i, distance] : neighbourhood->second) {
+      if (distance > options_.neighbour_range) continue;
+      const auto state = states.find(i);
+      if (state == states.end()) continue;
+      belief[states.index_of(state)] += weights[distance] * scale * prior;
     }
   }
   double virtual_belief = stay * virtual_place_ + leave * previous_loop_mass;  // parts 1 and 3
 
   // Update with the observation, then normalize (eta).
   posterior_.clear();
+  posterior_.reserve(wm_size);
   double total = likelihood.virtual_place * virtual_belief;
   size_t state = 0;
   for (const auto& [id, value] : likelihood.values) {

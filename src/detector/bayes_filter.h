@@ -4,7 +4,6 @@
 // leaves WM leaves the state space.
 #pragma once
 
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -28,12 +27,12 @@ class BayesFilter {
   std::vector<std::pair<LocationId, double>> NeighbourTransition(const Neighbourhood& j) const;
 
   // p(S_t | L^t) of the WM locations, and of the virtual place.
-  const std::map<LocationId, double>& posterior() const { return posterior_; }
+  const IdMap<double>& posterior() const { return posterior_; }
   double virtual_place() const { return virtual_place_; }
   // A location that entered WM after the update (retrieved) starts with probability 0.
   void Add(LocationId id) { posterior_.emplace(id, 0.0); }
   // Resuming a map: the posterior as it was.
-  void Reload(std::map<LocationId, double> posterior, double virtual_place) {
+  void Reload(IdMap<double> posterior, double virtual_place) {
     posterior_ = std::move(posterior);
     virtual_place_ = virtual_place;
   }
@@ -43,11 +42,11 @@ class BayesFilter {
  private:
   // The Gaussian's unnormalized value at each link distance 0..neighbour_range.
   std::vector<double> TransitionWeights() const;
-  std::vector<std::pair<LocationId, double>> NeighbourTransition(
-      const Neighbourhood& j, const std::vector<double>& weights) const;
+  // What part 4's weights over j's neighbours are multiplied by to sum to virtual_place_stay.
+  double ColumnScale(const Neighbourhood& j, const std::vector<double>& weights) const;
 
   FilterOptions options_;
-  std::map<LocationId, double> posterior_;
+  IdMap<double> posterior_;
   double virtual_place_ = 1.0;  // before any image: surely a new location
 };
 

@@ -23,7 +23,7 @@ Neighbourhoods Line(int n, int range) {
   return neighbourhoods;
 }
 
-Likelihood MakeLikelihood(std::map<LocationId, double> values, double virtual_place) {
+Likelihood MakeLikelihood(IdMap<double> values, double virtual_place) {
   Likelihood likelihood;
   likelihood.values = std::move(values);
   likelihood.virtual_place = virtual_place;
@@ -82,7 +82,7 @@ TEST(BayesFilterTest, MatchesADenseTransitionMatrix) {
   BayesFilter filter(options);
   std::vector<double> prior(n + 1, 0.0);  // index 0: the virtual place
   prior[0] = 1.0;
-  const std::vector<std::map<LocationId, double>> observations = {
+  const std::vector<IdMap<double>> observations = {
       {{1, 1.0}, {2, 1.0}, {3, 3.0}, {4, 1.0}, {5, 1.0}, {6, 1.0}, {7, 1.0}},
       {{1, 1.0}, {2, 1.0}, {3, 1.0}, {4, 2.5}, {5, 1.0}, {6, 1.0}, {7, 1.0}},
       {{1, 1.0}, {2, 1.0}, {3, 1.0}, {4, 1.0}, {5, 4.0}, {6, 1.2}, {7, 1.0}}};

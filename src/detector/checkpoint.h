@@ -41,7 +41,7 @@ struct ResumeState {
   std::vector<WordId> words_referenced_by_ltm;
   WordId next_word_id = 1;
   IndexHistory index;
-  std::map<LocationId, double> posterior;
+  IdMap<double> posterior;
   double virtual_place = 1;
   std::vector<PastMatch> past_matches;
 };

@@ -134,7 +134,7 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   ASSERT_EQ(state.locations.size(), 4u);
   EXPECT_EQ(state.locations.at(3).weight, 2);
   EXPECT_EQ(state.locations.at(4).signature.words, (std::vector<WordId>{1, 4}));
-  EXPECT_EQ(state.posterior, (std::map<LocationId, double>{{1, 0.25}, {2, 0.5}}));
+  EXPECT_EQ(state.posterior, (IdMap<double>{{1, 0.25}, {2, 0.5}}));
   EXPECT_EQ(state.virtual_place, 0.25);
   ASSERT_EQ(state.past_matches.size(), 1u);
   EXPECT_EQ(state.past_matches[0].matcher, 4);

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "detector/id_map.h"
 #include "memloop/types.h"
 
 namespace memloop {
@@ -14,7 +15,7 @@ namespace memloop {
 // (location, links away), the start at 0, sorted by distance then id.
 using Neighbourhood = std::vector<std::pair<LocationId, int>>;
 // WM location -> its neighbourhood within WM (itself at distance 0).
-using Neighbourhoods = std::map<LocationId, Neighbourhood>;
+using Neighbourhoods = IdMap<Neighbourhood>;
 using LinksFunction = std::function<std::vector<LocationId>(LocationId)>;
 
 // Every location within `range` links of `start`, following `links_of`.

@@ -2,7 +2,7 @@
 
 namespace memloop {
 
-Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
+Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options) {
   Hypothesis best;
   double best_own = -1;

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <functional>
-#include <map>
 #include <vector>
 
 #include "detector/bayes_filter.h"
@@ -27,7 +26,7 @@ struct Hypothesis {
 // mass rather than the best match, so matches lag behind along a path (RTAB-Map, by the same
 // authors, sums around the highest posterior, as here).
 // With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
-Hypothesis SelectHypothesis(const std::map<LocationId, double>& posterior, double virtual_place,
+Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options);
 
 // filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is

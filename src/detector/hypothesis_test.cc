@@ -16,8 +16,7 @@ Neighbourhoods Graph() {
   return graph;
 }
 
-const std::map<LocationId, double> kPosterior = {
-    {1, 0.05}, {2, 0.3}, {3, 0.1}, {4, 0.02}, {10, 0.25}};
+const IdMap<double> kPosterior = {{1, 0.05}, {2, 0.3}, {3, 0.1}, {4, 0.02}, {10, 0.25}};
 
 FilterOptions Neighbours() {
   FilterOptions options;

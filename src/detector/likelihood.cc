@@ -6,26 +6,29 @@
 
 namespace memloop {
 
-std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory) {
+IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory) {
   std::unordered_map<LocationId, int> pairs;
   for (const auto& [word, count] : z_t.Histogram()) {
     for (const auto& [location, occurrences] : memory.dictionary().References(word)) {
       if (memory.InWorkingMemory(location)) pairs[location] += std::min(count, occurrences);
     }
   }
-  std::map<LocationId, double> scores;
+  IdMap<double> scores;
+  scores.reserve(memory.working_memory().size());
   for (LocationId id : memory.working_memory()) {
     const auto found = pairs.find(id);
-    scores[id] = found == pairs.end() ? 0.0
-                                      : SimilarityFromPairs(found->second, z_t.size(),
-                                                            memory.at(id).signature.size());
+    scores.emplace_hint(scores.end(), id,
+                        found == pairs.end() ? 0.0
+                                             : SimilarityFromPairs(found->second, z_t.size(),
+                                                                   memory.at(id).signature.size()));
   }
   return scores;
 }
 
-std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory) {
-  std::map<LocationId, double> scores;
-  for (LocationId id : memory.working_memory()) scores[id] = 0.0;
+IdMap<double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory) {
+  IdMap<double> scores;
+  scores.reserve(memory.working_memory().size());
+  for (LocationId id : memory.working_memory()) scores.emplace_hint(scores.end(), id, 0.0);
   const double locations = static_cast<double>(memory.size());  // N: STM and WM
   for (const auto& [word, count] : z_t.Histogram()) {
     const auto& references = memory.dictionary().References(word);
@@ -41,7 +44,7 @@ std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const
   return scores;
 }
 
-Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores, double min_sigma_ratio) {
+Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio) {
   Likelihood likelihood;
   likelihood.scores = scores;
   double sum = 0;
@@ -64,9 +67,11 @@ Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores, double 
   // With one non-null score sigma says nothing (not a tie): only an estimable sigma is floored.
   const double sigma =
       non_null >= 2 ? std::max(likelihood.stddev, min_sigma_ratio * mu) : likelihood.stddev;
+  likelihood.values.reserve(scores.size());
   for (const auto& [id, score] : scores) {
     // Eq. 3. A non-null score with sigma = 0 equals mu, so (s - sigma) / mu = 1 too.
-    likelihood.values[id] = (score > 0 && score >= mu + sigma) ? (score - sigma) / mu : 1.0;
+    likelihood.values.emplace_hint(likelihood.values.end(), id,
+                                   (score > 0 && score >= mu + sigma) ? (score - sigma) / mu : 1.0);
   }
   // Eq. 4; mu/sigma is taken as 1 where sigma cannot be estimated (fewer than 2 non-null scores)
   // or, as written (ratio 0), is 0.

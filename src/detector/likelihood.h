@@ -2,30 +2,29 @@
 // WM location, normalized by eq. 3, and the virtual place's likelihood, eq. 4.
 #pragma once
 
-#include <map>
-
+#include "detector/id_map.h"
 #include "detector/memory.h"
 
 namespace memloop {
 
 struct Likelihood {
-  std::map<LocationId, double> scores;  // s_j = s(z_t, z_j), eq. 1, every WM location
-  std::map<LocationId, double> values;  // p(L_t | S_t = j), eq. 3
-  double virtual_place = 1;             // p(L_t | S_t = -1), eq. 4
-  double mean = 0;                      // mu of the non-null scores
-  double stddev = 0;                    // sigma of the non-null scores
+  IdMap<double> scores;      // s_j = s(z_t, z_j), eq. 1, every WM location
+  IdMap<double> values;      // p(L_t | S_t = j), eq. 3
+  double virtual_place = 1;  // p(L_t | S_t = -1), eq. 4
+  double mean = 0;           // mu of the non-null scores
+  double stddev = 0;         // sigma of the non-null scores
 };
 
 // Eq. 1 for every WM location, through the dictionary's references (locations that share no word
 // with z_t score 0 without being visited).
-std::map<LocationId, double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory);
+IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory);
 
 // tf-idf scores for every WM location j: the sum over the words w of z_t of
 // n_wj / n_j * log10(N / n_w), with n_wj the occurrences of w in z_j, n_j the size of z_j, N the
 // locations in STM and WM and n_w those among them that hold w (Sivic & Zisserman 2003; RTAB-Map's
 // likelihood since 2013). Frequent words weigh less, so a few distinctive shared words stand out
 // above many common ones, which eq. 1 counts alike.
-std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory);
+IdMap<double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory);
 
 // Eq. 3 and 4 from the scores. Eq. 4, mu/sigma + 1, grows without bound as sigma -> 0 and is
 // undefined at 0. With `min_sigma_ratio` > 0 and at least 2 non-null scores, sigma is taken as
@@ -34,7 +33,6 @@ std::map<LocationId, double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const
 // With fewer than 2 non-null scores sigma cannot be estimated and mu/sigma is taken as 1 (the
 // virtual place's likelihood is 2). With ratio 0 (the paper as written, RTAB-Map's convention),
 // sigma = 0 gives 2 and near ties give anything up to infinity.
-Likelihood ComputeLikelihood(const std::map<LocationId, double>& scores,
-                             double min_sigma_ratio = 0);
+Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio = 0);
 
 }  // namespace memloop

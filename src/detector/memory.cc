@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cassert>
-#include <unordered_map>
 
 #include "memloop/errors.h"
 
@@ -163,25 +162,29 @@ Neighbourhood Memory::WmNeighbourhood(LocationId id, int range) const {
 }
 
 Neighbourhoods Memory::WmNeighbourhoods(int range) const {
-  // Dense indices in id order (locations_ is sorted), so sorting indices sorts ids.
+  // Dense indices in id order (locations_ is sorted): sorting indices sorts ids, and a link's
+  // index is found by binary search in `ids`.
   std::vector<LocationId> ids;
   std::vector<const Location*> nodes;
   ids.reserve(locations_.size());
   nodes.reserve(locations_.size());
-  std::unordered_map<LocationId, int> index;
   for (const auto& [id, location] : locations_) {
-    index.emplace(id, static_cast<int>(ids.size()));
     ids.push_back(id);
     nodes.push_back(&location);
   }
-  std::vector<std::vector<int>> adjacency(ids.size());
+  // The adjacency in one array: node i's links are links[first_link[i] .. first_link[i + 1]).
+  std::vector<int> first_link(ids.size() + 1, 0);
+  std::vector<int> links;
   std::vector<char> in_wm(ids.size(), 0);
   auto wm = working_memory_.begin();  // sorted as ids: walked alongside, not searched
   for (size_t i = 0; i < ids.size(); ++i) {
-    for (const auto* links : {&nodes[i]->neighbours, &nodes[i]->loop_closures}) {
-      for (LocationId link : *links) {
-        const auto found = index.find(link);
-        if (found != index.end()) adjacency[i].push_back(found->second);
+    first_link[i] = static_cast<int>(links.size());
+    for (const auto* linked : {&nodes[i]->neighbours, &nodes[i]->loop_closures}) {
+      for (LocationId link : *linked) {
+        const auto found = std::lower_bound(ids.begin(), ids.end(), link);
+        if (found != ids.end() && *found == link) {
+          links.push_back(static_cast<int>(found - ids.begin()));
+        }
       }
     }
     if (wm != working_memory_.end() && *wm == ids[i]) {
@@ -189,20 +192,23 @@ Neighbourhoods Memory::WmNeighbourhoods(int range) const {
       ++wm;
     }
   }
+  first_link[ids.size()] = static_cast<int>(links.size());
   Neighbourhoods result;
+  result.reserve(working_memory_.size());
   std::vector<int> seen_from(ids.size(), -1);  // the start whose search last reached it
   std::vector<int> frontier, next;
+  Neighbourhood neighbourhood;  // built here, then copied at its size: one allocation each
   for (int start = 0; start < static_cast<int>(ids.size()); ++start) {
     if (!in_wm[start]) continue;
     const LocationId id = ids[start];
-    Neighbourhood& neighbourhood = result.emplace_hint(result.end(), id, Neighbourhood())->second;
-    neighbourhood.emplace_back(id, 0);
+    neighbourhood.assign(1, {id, 0});
     seen_from[start] = start;
     frontier.assign(1, start);
     for (int distance = 1; distance <= range && !frontier.empty(); ++distance) {
       next.clear();
       for (int node : frontier) {
-        for (int link : adjacency[node]) {
+        for (int k = first_link[node]; k < first_link[node + 1]; ++k) {
+          const int link = links[k];
           if (seen_from[link] != start) {
             seen_from[link] = start;
             next.push_back(link);
@@ -215,6 +221,7 @@ Neighbourhoods Memory::WmNeighbourhoods(int range) const {
       }
       frontier.swap(next);
     }
+    result.emplace_hint(result.end(), id, neighbourhood);
   }
   return result;
 }

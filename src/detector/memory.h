@@ -42,7 +42,7 @@ class Memory {
   const Location& at(LocationId id) const { return locations_.at(id); }
   bool InWorkingMemory(LocationId id) const { return working_memory_.count(id) > 0; }
   const std::deque<LocationId>& stm() const { return stm_; }  // oldest first
-  const std::set<LocationId>& working_memory() const { return working_memory_; }
+  const IdSet& working_memory() const { return working_memory_; }
   size_t size() const { return locations_.size(); }
   // Every location of STM and WM, by id.
   const std::map<LocationId, Location>& locations() const { return locations_; }
@@ -98,7 +98,7 @@ class Memory {
   Dictionary dictionary_;
   std::map<LocationId, Location> locations_;
   std::deque<LocationId> stm_;
-  std::set<LocationId> working_memory_;
+  IdSet working_memory_;  // walked in id order at every image
   LocationId next_id_ = 1;
   std::set<LocationId> changed_;
 };

@@ -13,7 +13,7 @@ TEST(MemoryTest, NewLocationsAreLinkedBothWaysAndLeaveStmOldestFirst) {
   EXPECT_EQ(memory.at(ids[1]).neighbours, (std::set<LocationId>{ids[0], ids[2]}));
   EXPECT_EQ(memory.at(ids[0]).weight, 0);
   memory.MoveStmOverflowToWm(2);
-  EXPECT_EQ(memory.working_memory(), (std::set<LocationId>{ids[0], ids[1]}));
+  EXPECT_EQ(memory.working_memory(), (IdSet{ids[0], ids[1]}));
   EXPECT_EQ(memory.stm(), (std::deque<LocationId>{ids[2], ids[3]}));
 }
 
