@@ -87,13 +87,13 @@ DataSetRun RunDataSet(const std::string& name, Options options) {
 }
 
 // Issue 8's floors with the default parameters, a margin under what docs/real-data.md measured
-// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82-89%, tum_fr1_rpy 29.5-29.8%),
-// and no false positive at the default T_loop. corridor (160x120) has no recall floor: it moves
-// between 0% and 4.5% with the forest's random splits (any change to how the dictionary is built
-// draws others), so only its false positives are checked.
+// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82-89%, tum_fr1_rpy 29.5-29.8%,
+// corridor 11.7% since its 160x120 images are enlarged 2x, features.min_image_side), and no
+// false positive at the default T_loop. corridor's floor is wide: its recall moved between 0%
+// and 4.5% with the forest's random splits alone before the enlargement.
 TEST(RealDataTest, RecallFloorsOnEverySharedDataSet) {
   const std::map<std::string, double> floors = {
-      {"rtabmap_samples", 0.95}, {"gp_walk_a", 0.77}, {"tum_fr1_rpy", 0.20}, {"corridor", 0.0}};
+      {"rtabmap_samples", 0.95}, {"gp_walk_a", 0.77}, {"tum_fr1_rpy", 0.20}, {"corridor", 0.05}};
   int present = 0;
   for (const auto& [name, floor] : floors) {
     if (!std::filesystem::exists(std::string(MEMLOOP_DATASETS) + "/" + name + "/images")) continue;

@@ -13,6 +13,11 @@ struct FeatureOptions {
   std::string type = "surf";
   // Keep at most this many strongest keypoints per image (0 = all).
   int max_features = 400;
+  // Images whose smaller side is under this many pixels are enlarged (bilinear, by the smallest
+  // integer factor that reaches it) before extraction; keypoints are given in the image's own
+  // pixels (memloop: at 160x120 the detectors find too few features; docs/real-data.md). 0: as
+  // they are (the paper).
+  int min_image_side = 240;
 
   // SURF (Bay et al. 2008): octaves, intervals and step as in the SURF paper.
   // det(H) of 0-255 intensities. Low, so that the max_features strongest decide, as the paper-era

@@ -48,6 +48,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Feature backend: surf (memloop's SURF, 64-d), sift (OpenCV SIFT, 128-d), orb (OpenCV ORB, 256-bit binary)"),
     Param("features.max_features", MEMLOOP_FIELD(features.max_features)).Unit("keypoints")
         .Range(0, 100000).Help("Strongest keypoints kept per image (0 = all)"),
+    Param("features.min_image_side", MEMLOOP_FIELD(features.min_image_side)).Unit("pixels")
+        .Range(0, 100000).Help("Images whose smaller side is under this are enlarged (bilinear, smallest integer factor that reaches it) before feature extraction; keypoints stay in the image's pixels (0 = never)"),
     Param("surf.hessian_threshold", MEMLOOP_FIELD(features.surf_hessian_threshold))
         .Range(0, kHuge).Help("SURF: minimum det(H) of a keypoint, on 0-255 intensities (as OpenCV)"),
     Param("surf.octaves", MEMLOOP_FIELD(features.surf_octaves)).Range(1, 8)

@@ -8,6 +8,7 @@ Options Options::Paper2011() {
   options.features.surf_upright = 0;
   options.features.sift_upright = 0;  // oriented, as the paper's SURF
   options.features.orb_upright = 0;
+  options.features.min_image_side = 0;
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
   options.memory.appearance_retrieval = 0;

@@ -8,18 +8,12 @@
 
 #include "memloop/feature_extractor.h"
 #include "memloop/options.h"
+#include "noise_texture.h"
 
 namespace memloop {
 namespace {
 
-cv::Mat Texture() {
-  cv::Mat noise(240, 320, CV_8U);
-  cv::RNG rng(5);
-  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
-  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 2.0);
-  cv::normalize(noise, noise, 0, 255, cv::NORM_MINMAX);
-  return noise;
-}
+cv::Mat Texture() { return testing::NoiseTexture(cv::Size(320, 240), 5, 2.0); }
 
 // sift.upright / orb.upright: every keypoint at angle 0, each once (SIFT makes one per dominant
 // orientation), described at that angle; oriented, the detector's angles stay.
