@@ -88,7 +88,8 @@ size_t Hash(const std::vector<unsigned char>& bytes) {
 // Keys of the resume_state table.
 constexpr const char* kCounters = "counters";
 constexpr const char* kStm = "stm";
-constexpr const char* kDictionary = "dictionary";
+// LTM's marks on the dictionary's words: one key per chunk of WordBitset::kChunkIds word ids.
+std::string MarksKey(size_t chunk) { return "ltm_marks." + std::to_string(chunk); }
 constexpr const char* kIndex = "index";
 constexpr const char* kIndexPending = "index_pending";             // empty: no background build
 constexpr const char* kIndexPendingWords = "index_pending_words";  // its snapshot, once per build
@@ -219,7 +220,19 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
                .Put<int32_t>(dictionary.next_word_id())
                .Take());
   AddState(checkpoint, kStm, ByteWriter().PutAll(memory.stm()).Take());
-  AddState(checkpoint, kDictionary, ByteWriter().PutAll(dictionary.IdsReferencedByLtm()).Take());
+  // The marks: every chunk in a full checkpoint, then only those whose marks changed (issue 9:
+  // the list of all marked words, 730 KB at 180,000 marks, was encoded, hashed and written again
+  // at every image that transferred a location).
+  const WordBitset& marks = dictionary.ltm_marks();
+  const auto put_marks = [&](size_t chunk) {
+    checkpoint.state.emplace_back(MarksKey(chunk),
+                                  ByteWriter().PutAll(marks.ChunkBlocks(chunk)).Take());
+  };
+  if (first_) {
+    for (size_t chunk = 0; chunk < marks.chunk_count(); ++chunk) put_marks(chunk);
+  } else {
+    for (size_t chunk : dictionary.changed_mark_chunks()) put_marks(chunk);
+  }
   ByteWriter index_state;
   index_state.Put<int32_t>(history.build_count)
       .Put<uint64_t>(history.size_at_build)
@@ -322,11 +335,16 @@ ResumeState ReadState(LtmDatabase& database, const Dictionary& dictionary) {
     for (LocationId id : reader.GetAll<LocationId>()) state.stm.push_back(id);
     reader.ExpectEnd();
   }
-  {
-    const std::vector<unsigned char> bytes = RequiredState(database, kDictionary);
-    ByteReader reader(bytes, "the checkpoint's dictionary");
-    state.words_referenced_by_ltm = reader.GetAll<WordId>();
+  // Mark chunks can only hold ids the dictionary gave; an absent chunk holds none.
+  const size_t chunks = WordBitset::ChunkOf(std::max<WordId>(state.next_word_id, 1) - 1) + 1;
+  for (size_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::optional<std::vector<unsigned char>> bytes = database.ReadState(MarksKey(chunk));
+    if (!bytes) continue;
+    ByteReader reader(*bytes, "the checkpoint's dictionary marks");
+    const std::vector<uint64_t> blocks = reader.GetAll<uint64_t>();
     reader.ExpectEnd();
+    if (blocks.size() > WordBitset::kChunkIds / 64) throw Error("a chunk of marks is too long");
+    WordBitset::AppendChunkIds(chunk, blocks, state.words_referenced_by_ltm);
   }
   ReadIndex(database, dictionary, state);
   {

@@ -78,8 +78,8 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(first.locations.size(), 3u);
   EXPECT_EQ(first.index_words, (std::vector<WordId>{1, 2, 3, 4}));
   EXPECT_EQ(first.index_descriptors.size(), 4u);
-  EXPECT_EQ(first.state.size(), 7u);  // counters, stm, dictionary, index (and pending build),
-                                      // filter, past matches
+  EXPECT_EQ(first.state.size(), 6u);  // counters, stm, index (and pending build), filter, past
+                                      // matches; no LTM mark yet, so no chunk of them
 
   const CheckpointData unchanged = Next();
   EXPECT_FALSE(unchanged.full);
@@ -110,16 +110,45 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(removed.removed_locations, (std::vector<LocationId>{1}));
 }
 
+// LTM's marks on words go by chunks of 65,536 word ids, and a chunk is written again only when
+// one of its marks changed (issue 9: the whole list was written at every image).
+TEST_F(CheckpointWriterTest, LtmMarksAreWrittenOnlyWhenTheirChunkChanged) {
+  const auto marks_keys = [](const CheckpointData& checkpoint) {
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : checkpoint.state) {
+      if (key.rfind("ltm_marks.", 0) == 0) keys.push_back(key);
+    }
+    return keys;
+  };
+  AddChain(memory_, {{1, 2}, {2, 3}, {4}});
+  memory_.dictionary().MarkReferencedByLtm(2);
+  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"ltm_marks.0"}));  // the first: all
+  // Next does not clear what changed (the detector does, once the checkpoint is queued).
+  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"ltm_marks.0"}));
+  memory_.ClearChanged();
+  EXPECT_TRUE(marks_keys(Next()).empty());
+  memory_.dictionary().MarkReferencedByLtm(2);  // already marked: nothing changed
+  EXPECT_TRUE(marks_keys(Next()).empty());
+  memory_.dictionary().MarkReferencedByLtm(3);
+  const CheckpointData marked = Next();
+  ASSERT_EQ(marks_keys(marked), (std::vector<std::string>{"ltm_marks.0"}));
+  memory_.ClearChanged();
+  EXPECT_TRUE(marks_keys(Next()).empty());
+}
+
 TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
   AddChain(memory_, {{1, 2}, {2, 3}, {4}, {1, 4}});
   memory_.MoveStmOverflowToWm(2);
+  memory_.dictionary().MarkReferencedByLtm(3);
   filter_.Reload({{1, 0.25}, {2, 0.5}}, 0.25);
   past_matches_ = {{1, 4}};
   counters_ = {11, 12, 4};
   database.WriteCheckpoint(Next());
+  memory_.ClearChanged();
   memory_.at(3).weight = 2;
+  memory_.dictionary().MarkReferencedByLtm(1);
   database.WriteCheckpoint(Next());
 
   Memory reloaded_memory(DescriptorKind::kFloat, 2, Options());
@@ -131,6 +160,7 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   EXPECT_EQ(state.next_word_id, 5);
   EXPECT_EQ(state.stm, (std::deque<LocationId>{3, 4}));
   EXPECT_EQ(state.words, (std::vector<WordId>{1, 2, 3, 4}));
+  EXPECT_EQ(state.words_referenced_by_ltm, (std::vector<WordId>{1, 3}));
   ASSERT_EQ(state.locations.size(), 4u);
   EXPECT_EQ(state.locations.at(3).weight, 2);
   EXPECT_EQ(state.locations.at(4).signature.words, (std::vector<WordId>{1, 4}));
@@ -243,6 +273,22 @@ TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {
   try {
     ReadCheckpoint(database, memory_.dictionary());
     ADD_FAILURE() << "a truncated location was read";
+  } catch (const DatabaseError& error) {
+    EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
+  }
+  // A chunk of LTM marks cut short.
+  LtmDatabase marked(dir.File("marked.db"), LtmDatabase::Mode::kCreate);
+  memory_.dictionary().MarkReferencedByLtm(1);
+  CheckpointData with_marks = CheckpointWriter().Next(memory_, filter_, past_matches_, counters_);
+  bool cut = false;
+  for (auto& [key, value] : with_marks.state) {
+    if (key == "ltm_marks.0") value.resize(value.size() - 3), cut = true;
+  }
+  ASSERT_TRUE(cut);
+  marked.WriteCheckpoint(with_marks);
+  try {
+    ReadCheckpoint(marked, memory_.dictionary());
+    ADD_FAILURE() << "truncated marks were read";
   } catch (const DatabaseError& error) {
     EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
   }

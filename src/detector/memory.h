@@ -78,9 +78,13 @@ class Memory {
               LocationId next_id);
   LocationId next_id() const { return next_id_; }
 
-  // Locations given out mutably, added or restored since ClearChanged() (some may be gone since).
+  // Locations given out mutably, added or restored since ClearChanged() (some may be gone since);
+  // ClearChanged() also clears the dictionary's changed LTM marks.
   const std::set<LocationId>& changed() const { return changed_; }
-  void ClearChanged() { changed_.clear(); }
+  void ClearChanged() {
+    changed_.clear();
+    dictionary_.ClearChangedMarks();
+  }
 
   // Links of a location in memory (neighbours and loop closures), sorted.
   std::vector<LocationId> LinksOf(LocationId id) const;

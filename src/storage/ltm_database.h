@@ -49,8 +49,9 @@ class LtmDatabase {
   static constexpr int kApplicationId = 0x4d4c4f50;  // "MLOP"
   // 1: LTM only. 2: adds the resume checkpoint (memory_locations, index_points, resume_state).
   // 3: index points as chunks of word ids (index_chunks); each word's descriptor once
-  // (index_descriptors).
-  static constexpr int kFormatVersion = 3;
+  // (index_descriptors). 4: LTM's marks on the dictionary's words as bitmaps by chunks of word
+  // ids (resume_state keys ltm_marks.N), only changed chunks written at each checkpoint.
+  static constexpr int kFormatVersion = 4;
 
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty

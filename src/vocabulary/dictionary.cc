@@ -68,7 +68,7 @@ void Dictionary::Remove(WordId id) {
   assert(References(id).empty());
   index_->Remove(id);
   words_.erase(id);
-  referenced_by_ltm_.Erase(id);
+  if (referenced_by_ltm_.Erase(id)) changed_mark_chunks_.insert(WordBitset::ChunkOf(id));
 }
 
 std::vector<WordId> Dictionary::Ids() const {
@@ -100,23 +100,17 @@ const std::map<LocationId, int>& Dictionary::References(WordId id) const {
 
 void Dictionary::MarkReferencedByLtm(WordId id) {
   assert(words_.count(id));
-  referenced_by_ltm_.Insert(id);
+  if (referenced_by_ltm_.Insert(id)) changed_mark_chunks_.insert(WordBitset::ChunkOf(id));
 }
 
 bool Dictionary::IsReferencedByLtm(WordId id) const { return referenced_by_ltm_.Contains(id); }
-
-std::vector<WordId> Dictionary::IdsReferencedByLtm() const {
-  // Kept apart as marks come and go, as bits: a scan of every word here, at each checkpoint, took
-  // a third of the run's time at 140,000 words; a walk through a std::set of them, 16% at 70,000
-  // marked words (issue 9).
-  return referenced_by_ltm_.Ids();
-}
 
 void Dictionary::Reload(const std::vector<WordId>& ids, const IndexHistory& history,
                         const std::vector<WordId>& referenced_by_ltm, WordId next_word_id) {
   index_->Replay(history, ids);
   words_.clear();
   referenced_by_ltm_.Clear();
+  changed_mark_chunks_.clear();
   for (WordId id : ids) {
     if (id <= kNoWord || id >= next_word_id) {
       throw Error("word " + std::to_string(id) + " is out of the dictionary's id range");

@@ -62,6 +62,28 @@ class WordBitset {
     }
     return ids;
   }
+  // The set in chunks of kChunkIds ids, to be stored in pieces: the checkpoint writes only the
+  // chunks whose ids changed.
+  static constexpr size_t kChunkIds = 65536;
+  static size_t ChunkOf(WordId id) { return static_cast<size_t>(id) / kChunkIds; }
+  size_t chunk_count() const { return (blocks_.size() + kChunkBlocks - 1) / kChunkBlocks; }
+  // Chunk `chunk` as 64-bit blocks (block k: ids chunk * kChunkIds + 64 k + bit), without its
+  // trailing empty blocks: an empty chunk has none.
+  std::vector<uint64_t> ChunkBlocks(size_t chunk) const {
+    const size_t begin = std::min(chunk * kChunkBlocks, blocks_.size());
+    size_t end = std::min(begin + kChunkBlocks, blocks_.size());
+    while (end > begin && blocks_[end - 1] == 0) --end;
+    return std::vector<uint64_t>(blocks_.begin() + begin, blocks_.begin() + end);
+  }
+  // The ids of chunk `chunk` given as ChunkBlocks gives it, appended to `ids` in ascending order.
+  static void AppendChunkIds(size_t chunk, const std::vector<uint64_t>& blocks,
+                             std::vector<WordId>& ids) {
+    for (size_t block = 0; block < blocks.size(); ++block) {
+      for (uint64_t bits = blocks[block]; bits != 0; bits &= bits - 1) {
+        ids.push_back(static_cast<WordId>(chunk * kChunkIds + block * 64 + __builtin_ctzll(bits)));
+      }
+    }
+  }
   // Removes and returns up to `count` ids, smallest first.
   std::vector<WordId> TakeSmallest(size_t count) {
     std::vector<WordId> taken;
@@ -81,6 +103,8 @@ class WordBitset {
     const auto index = static_cast<size_t>(id);
     return {index / 64, uint64_t{1} << (index % 64)};
   }
+
+  static constexpr size_t kChunkBlocks = kChunkIds / 64;
 
   std::vector<uint64_t> blocks_;
   size_t lowest_block_ = 0;  // no id below this block is in the set
