@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
+#include "util/thread_priority.h"
 #include "vocabulary/flann_deterministic.h"
 #include "vocabulary/point_map.h"
 #include "vocabulary/word_index.h"
@@ -314,6 +315,7 @@ class FlannWordIndex : public WordIndex {
     const flann::Matrix<Element> points(pending.catch_up_buffer.data(), count, dim());
     pending.caught_up =
         std::async(std::launch::async, [points, built = std::move(pending.built)]() mutable {
+          LowerThisThreadsPriority();
           Built index = built.get();
           if (points.rows > 0) index.index->addPoints(points, /*rebuild_threshold=*/1.0f);
           return index;
@@ -364,6 +366,7 @@ class FlannWordIndex : public WordIndex {
     pending_->built = std::async(
         std::launch::async,
         [points, rows = std::move(rows), words_of_points, dim = dim(), options = options_] {
+          LowerThisThreadsPriority();  // the per-image thread comes first (thread_priority.h)
           if (!rows.empty()) *points = CopyRows(rows, dim);
           Built built;
           built.index = BuildIndex<Distance>(
@@ -471,6 +474,7 @@ class FlannWordIndex : public WordIndex {
     // captured is destroyed with the future, by whoever releases it last (Retire: this thread).
     retired_ = std::async(std::launch::async,
                           [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
+                            LowerThisThreadsPriority();
                             old = Built();
                             old_buffers.clear();
                           });
