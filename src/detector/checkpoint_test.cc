@@ -257,41 +257,37 @@ TEST(CheckpointIndexTest, PendingBuildWordsAreWrittenOncePerBuild) {
 }
 
 TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {
+  // Why `map` cannot be resumed (empty when it can).
+  const auto refusal = [this](LtmDatabase& map) -> std::string {
+    try {
+      ReadCheckpoint(map, memory_.dictionary());
+      return "";
+    } catch (const DatabaseError& error) {
+      return error.what();
+    }
+  };
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
-  try {
-    ReadCheckpoint(database, memory_.dictionary());
-    ADD_FAILURE() << "a map without checkpoint was read";
-  } catch (const DatabaseError& error) {
-    EXPECT_NE(std::string(error.what()).find("no resume checkpoint"), std::string::npos)
-        << error.what();
-  }
+  EXPECT_NE(refusal(database).find("no resume checkpoint"), std::string::npos) << refusal(database);
   AddChain(memory_, {{1, 2}});
   CheckpointData checkpoint = Next();
-  checkpoint.locations[0].second.resize(5);
+  checkpoint.locations[0].second.resize(5);  // a truncated location
   database.WriteCheckpoint(checkpoint);
-  try {
-    ReadCheckpoint(database, memory_.dictionary());
-    ADD_FAILURE() << "a truncated location was read";
-  } catch (const DatabaseError& error) {
-    EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
-  }
+  EXPECT_NE(refusal(database).find("damaged"), std::string::npos) << refusal(database);
+
   // A chunk of LTM marks cut short.
   LtmDatabase marked(dir.File("marked.db"), LtmDatabase::Mode::kCreate);
   memory_.dictionary().MarkReferencedByLtm(1);
   CheckpointData with_marks = CheckpointWriter().Next(memory_, filter_, past_matches_, counters_);
   bool cut = false;
   for (auto& [key, value] : with_marks.state) {
-    if (key == "ltm_marks.0") value.resize(value.size() - 3), cut = true;
+    if (key != "ltm_marks.0") continue;
+    value.resize(value.size() - 3);
+    cut = true;
   }
   ASSERT_TRUE(cut);
   marked.WriteCheckpoint(with_marks);
-  try {
-    ReadCheckpoint(marked, memory_.dictionary());
-    ADD_FAILURE() << "truncated marks were read";
-  } catch (const DatabaseError& error) {
-    EXPECT_NE(std::string(error.what()).find("damaged"), std::string::npos) << error.what();
-  }
+  EXPECT_NE(refusal(marked).find("damaged"), std::string::npos) << refusal(marked);
 }
 
 }  // namespace

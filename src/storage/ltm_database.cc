@@ -345,7 +345,7 @@ size_t CheckpointData::bytes() const {
 void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
   if (checkpoint.full) Cached("DELETE FROM index_descriptors").Run();
-  if (checkpoint.full) Cached("DELETE FROM resume_state WHERE key GLOB 'ltm_marks.*'").Run();
+  if (checkpoint.full) Cached("DELETE FROM resume_state").Run();
   if (checkpoint.full || checkpoint.reset_index) Cached("DELETE FROM index_chunks").Run();
   for (LocationId id : checkpoint.removed_locations) {
     Cached("DELETE FROM memory_locations WHERE id=?").Bind(1, static_cast<long long>(id)).Run();

@@ -22,7 +22,7 @@ using LoopClosureRecord = MapLoopClosure;
 // One resume checkpoint (checkpoint.h) as rows: the STM/WM locations and the dictionary's index
 // points that changed since the previous checkpoint, and the detector's state blobs.
 struct CheckpointData {
-  bool full = false;  // replaces every location and index point the file holds
+  bool full = false;  // replaces every location, index point and state entry the file holds
   std::vector<std::pair<LocationId, std::vector<unsigned char>>> locations;
   std::vector<LocationId> removed_locations;
   bool reset_index = false;  // the index was rebuilt: its old points go

@@ -55,10 +55,9 @@ class WordBitset {
   // Every id in the set, ascending.
   std::vector<WordId> Ids() const {
     std::vector<WordId> ids;
-    for (size_t block = lowest_block_; block < blocks_.size(); ++block) {
-      for (uint64_t bits = blocks_[block]; bits != 0; bits &= bits - 1) {
-        ids.push_back(static_cast<WordId>(block * 64 + __builtin_ctzll(bits)));
-      }
+    if (lowest_block_ < blocks_.size()) {
+      AppendIds(lowest_block_, blocks_.data() + lowest_block_, blocks_.data() + blocks_.size(),
+                ids);
     }
     return ids;
   }
@@ -78,11 +77,7 @@ class WordBitset {
   // The ids of chunk `chunk` given as ChunkBlocks gives it, appended to `ids` in ascending order.
   static void AppendChunkIds(size_t chunk, const std::vector<uint64_t>& blocks,
                              std::vector<WordId>& ids) {
-    for (size_t block = 0; block < blocks.size(); ++block) {
-      for (uint64_t bits = blocks[block]; bits != 0; bits &= bits - 1) {
-        ids.push_back(static_cast<WordId>(chunk * kChunkIds + block * 64 + __builtin_ctzll(bits)));
-      }
-    }
+    AppendIds(chunk * kChunkBlocks, blocks.data(), blocks.data() + blocks.size(), ids);
   }
   // Removes and returns up to `count` ids, smallest first.
   std::vector<WordId> TakeSmallest(size_t count) {
@@ -105,6 +100,17 @@ class WordBitset {
   }
 
   static constexpr size_t kChunkBlocks = kChunkIds / 64;
+
+  // The ids of blocks [begin, end), the first of which is block number `first_block`.
+  static void AppendIds(size_t first_block, const uint64_t* begin, const uint64_t* end,
+                        std::vector<WordId>& ids) {
+    for (const uint64_t* block = begin; block != end; ++block) {
+      const size_t first_id = (first_block + static_cast<size_t>(block - begin)) * 64;
+      for (uint64_t bits = *block; bits != 0; bits &= bits - 1) {
+        ids.push_back(static_cast<WordId>(first_id + __builtin_ctzll(bits)));
+      }
+    }
+  }
 
   std::vector<uint64_t> blocks_;
   size_t lowest_block_ = 0;  // no id below this block is in the set
