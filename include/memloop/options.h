@@ -45,6 +45,10 @@ struct DictionaryOptions {
   int kd_trees = 4;
   // Leaves visited per search (FLANN "checks"): more is slower and closer to exact.
   int kd_checks = 32;
+  // Threads searching the dictionary, the caller's included: an image's descriptors (and a
+  // retrieved location's words) are shared between them. Each descriptor's answer is the same
+  // whatever the number, so results are too; only the time changes.
+  int search_threads = 2;
   // The forest is rebuilt when points added and removed since the last build exceed this
   // fraction of its size at that build; otherwise it is updated incrementally.
   double rebuild_fraction = 1.0;

@@ -72,6 +72,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Randomized kd-trees in the dictionary's forest (FLANN)"),
     Param("dictionary.kd_checks", MEMLOOP_FIELD(dictionary.kd_checks)).Unit("leaves").Range(1, 100000)
         .Help("Leaves visited per nearest-neighbour search (FLANN checks)"),
+    Param("dictionary.search_threads", MEMLOOP_FIELD(dictionary.search_threads)).Unit("threads").Range(1, 64)
+        .Help("Threads sharing each search of the dictionary, the caller's included (the same words whatever the number)"),
     Param("dictionary.rebuild_fraction", MEMLOOP_FIELD(dictionary.rebuild_fraction)).AboveRange(0, 100)
         .Help("Rebuild the forest when points added+removed since the last build exceed this fraction of its size then"),
     Param("dictionary.rebuild_delay", MEMLOOP_FIELD(dictionary.rebuild_delay)).Unit("insertions").Range(0, 100000)

@@ -9,6 +9,7 @@
 
 #include "memloop/errors.h"
 #include "util/thread_priority.h"
+#include "util/work_team.h"
 #include "vocabulary/flann_deterministic.h"
 #include "vocabulary/point_map.h"
 #include "vocabulary/word_index.h"
@@ -54,7 +55,7 @@ class FlannWordIndex : public WordIndex {
   using Index = flann::Index<Distance>;
 
   FlannWordIndex(DescriptorKind kind, int dim, const DictionaryOptions& options)
-      : WordIndex(kind, dim), options_(options) {}
+      : WordIndex(kind, dim), options_(options), search_team_(options.search_threads) {}
   // A build running in the background reads buffers_: it ends before they go.
   ~FlannWordIndex() override { pending_.reset(); }
 
@@ -215,8 +216,16 @@ class FlannWordIndex : public WordIndex {
     flann::Matrix<size_t> index_matrix(indices.data(), queries.rows, k);
     flann::Matrix<DistanceType> distance_matrix(distances.data(), queries.rows, k);
     flann::SearchParams params(options_.kd_checks);
-    params.cores = 1;  // one thread: repeatable, and a predictable time per image
-    index_->knnSearch(query_matrix, index_matrix, distance_matrix, k, params);
+    params.cores = 1;  // threads are search_team_'s: the caller works too (work_team.h)
+    // Each query is searched alone and writes only its own rows: the same answers whatever the
+    // number of threads.
+    search_team_.Run(queries.rows, kSearchChunk, [&](size_t begin, size_t end) {
+      const size_t rows = end - begin;
+      flann::Matrix<Element> chunk_queries(query_matrix[begin], rows, dim());
+      flann::Matrix<size_t> chunk_indices(index_matrix[begin], rows, k);
+      flann::Matrix<DistanceType> chunk_distances(distance_matrix[begin], rows, k);
+      index_->knnSearch(chunk_queries, chunk_indices, chunk_distances, k, params);
+    });
     for (int row = 0; row < queries.rows; ++row) {
       for (size_t n = 0; n < k; ++n) {
         const WordId word = points_.WordOf(index_matrix[row][n]);
@@ -521,6 +530,10 @@ class FlannWordIndex : public WordIndex {
   }
 
   DictionaryOptions options_;
+  // Queries per chunk of a search: ~0.5 ms of work at a few hundred thousand words, large enough
+  // that taking a chunk costs nothing beside it.
+  static constexpr size_t kSearchChunk = 16;
+  mutable WorkTeam search_team_;                // Search is const: it only reads the index
   std::unique_ptr<PendingBuild> pending_;       // its destruction waits for the build thread
   std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending
   std::future<void> retired_;                   // the old forest being freed after a swap
