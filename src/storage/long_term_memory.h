@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <deque>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "storage/ltm_database.h"
+#include "storage/wal_checkpointer.h"
 
 namespace memloop {
 
@@ -28,6 +30,9 @@ struct LtmOptions {
   // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
   // value to meet a full disk.
   long long max_page_count = 0;
+  // The write-ahead log is copied into the map file, beside the writer, once a commit leaves
+  // this many frames (pages) in it (wal_checkpointer.h; SQLite's own default is 1,000).
+  int wal_checkpoint_frames = 1000;
 };
 
 class LongTermMemory {
@@ -100,6 +105,8 @@ class LongTermMemory {
   void SetWriterHeld(bool held);
   size_t pending_bytes() const;
   const std::string& path() const { return path_; }
+  // For tests: what copies the log into the file; null when reading only.
+  WalCheckpointer* wal_checkpointer() { return wal_checkpointer_.get(); }
 
  private:
   struct StoreLocation {
@@ -166,7 +173,8 @@ class LongTermMemory {
   std::string path_;
   bool read_only_;
   LtmDatabase reader_;
-  std::set<LocationId> ids_;  // locations now in LTM
+  std::unique_ptr<WalCheckpointer> wal_checkpointer_;  // outlives the writer, which reports to it
+  std::set<LocationId> ids_;                           // locations now in LTM
 
   mutable std::mutex mutex_;
   std::condition_variable wake_writer_;
