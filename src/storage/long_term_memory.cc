@@ -49,9 +49,7 @@ LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
       max_pending_bytes_(options.max_pending_bytes),
       max_page_count_(options.max_page_count) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
-  if (read_only_) return;
-  wal_checkpointer_ = std::make_unique<WalCheckpointer>(path, options.wal_checkpoint_frames);
-  writer_ = std::thread([this, options] { WriterLoop(options); });
+  if (!read_only_) writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
 LongTermMemory::~LongTermMemory() {
@@ -405,7 +403,6 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
   try {
     LtmDatabase database(path_, LtmDatabase::Mode::kAttach);  // reader_ checked the file
     if (options.max_page_count > 0) database.LimitPages(options.max_page_count);
-    wal_checkpointer_->Watch(database);  // commits write the log only (wal_checkpointer.h)
     for (;;) {
       std::deque<Queued> batch;
       {

@@ -9,7 +9,6 @@
 #include <condition_variable>
 #include <deque>
 #include <map>
-#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -19,7 +18,6 @@
 #include <vector>
 
 #include "storage/ltm_database.h"
-#include "storage/wal_checkpointer.h"
 
 namespace memloop {
 
@@ -30,9 +28,6 @@ struct LtmOptions {
   // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
   // value to meet a full disk.
   long long max_page_count = 0;
-  // The write-ahead log is copied into the map file, beside the writer, once a commit leaves
-  // this many frames (pages) in it (wal_checkpointer.h; SQLite's own default is 1,000).
-  int wal_checkpoint_frames = 1000;
 };
 
 class LongTermMemory {
@@ -105,8 +100,6 @@ class LongTermMemory {
   void SetWriterHeld(bool held);
   size_t pending_bytes() const;
   const std::string& path() const { return path_; }
-  // For tests: what copies the log into the file; null when reading only.
-  WalCheckpointer* wal_checkpointer() { return wal_checkpointer_.get(); }
 
  private:
   struct StoreLocation {
@@ -173,8 +166,7 @@ class LongTermMemory {
   std::string path_;
   bool read_only_;
   LtmDatabase reader_;
-  std::unique_ptr<WalCheckpointer> wal_checkpointer_;  // outlives the writer, which reports to it
-  std::set<LocationId> ids_;                           // locations now in LTM
+  std::set<LocationId> ids_;  // locations now in LTM
 
   mutable std::mutex mutex_;
   std::condition_variable wake_writer_;

@@ -5,7 +5,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <filesystem>
 #include <functional>
 
 #include "memloop/errors.h"
@@ -102,37 +101,6 @@ TEST(LongTermMemoryTest, SurvivesKill9) {
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
   EXPECT_GE(database.CountLocations(), 50);
   EXPECT_EQ(database.ReadLocation(50)->signature.words, (std::vector<WordId>{50, 1050}));
-}
-
-// The writer's commits only append to the write-ahead log: copying it into the map file is the
-// checkpointer's, in its own thread (wal_checkpointer.h). Held, it lets the log grow past twice
-// SQLite's own threshold (1,000 frames), which shows that no commit copied it; released, one
-// checkpoint copies all of it, and the map reads whole.
-TEST(LongTermMemoryTest, CommitsLeaveTheLogToTheCheckpointer) {
-  testing::TempDir dir;
-  const std::string path = dir.File("map.db");
-  LtmOptions options;
-  options.wal_checkpoint_frames = 20;
-  {
-    LongTermMemory ltm(path, LtmDatabase::Mode::kCreate, options);
-    WalCheckpointer& checkpointer = *ltm.wal_checkpointer();
-    checkpointer.SetHeld(true);
-    const cv::Mat page_sized = cv::Mat::ones(1, 1024, CV_32F);  // 4 KB: a page or more per word
-    for (int commit = 0; commit < 50; ++commit) {
-      for (int word = 1; word <= 60; ++word) ltm.StoreWord(commit * 60 + word, page_sized);
-      ltm.Store(MakeLocation(commit + 1, {commit * 60 + 1}));
-      ltm.Flush();
-    }
-    EXPECT_GT(std::filesystem::file_size(path + "-wal"), 2000u * 4096u);
-    EXPECT_EQ(checkpointer.checkpoints(), 0);
-    checkpointer.SetHeld(false);
-    checkpointer.WaitIdle();
-    EXPECT_GE(checkpointer.checkpoints(), 1);
-    EXPECT_TRUE(checkpointer.last_was_complete());
-  }
-  LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
-  EXPECT_EQ(database.CountLocations(), 50);
-  EXPECT_EQ(database.CountWords(), 3000);
 }
 
 }  // namespace

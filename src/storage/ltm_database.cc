@@ -228,10 +228,6 @@ SqliteStatement& LtmDatabase::Cached(const std::string& sql) {
 void LtmDatabase::Begin() { Cached("BEGIN").Run(); }
 void LtmDatabase::Commit() { Cached("COMMIT").Run(); }
 
-void LtmDatabase::OnCommit(int (*hook)(void*, sqlite3*, const char*, int), void* argument) {
-  sqlite3_wal_hook(connection_.handle(), hook, argument);  // replaces the automatic checkpoint
-}
-
 void LtmDatabase::WriteLocation(const Location& location) {
   const long long id = location.id;
   for (const char* sql : {"DELETE FROM locations WHERE id=?", "DELETE FROM links WHERE from_id=?",

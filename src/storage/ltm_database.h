@@ -69,10 +69,6 @@ class LtmDatabase {
   void LimitPages(long long pages);
   void Begin();
   void Commit();
-  // After each commit, `hook(argument, ...)` is told how many frames the write-ahead log holds
-  // (sqlite3_wal_hook), and the commit no longer copies the log into the file itself
-  // (wal_checkpointer.h does).
-  void OnCommit(int (*hook)(void*, sqlite3*, const char*, int), void* argument);
 
   void WriteLocation(const Location& location);
   // A word's descriptor, as the bytes of its row (float or binary: the map's info says which).
