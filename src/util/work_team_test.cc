@@ -41,7 +41,7 @@ TEST(WorkTeamTest, HelperRunsChunksBesideTheCaller) {
   std::atomic<int> arrived{0};
   std::set<std::thread::id> ids;
   std::mutex ids_mutex;
-  bool met = true;
+  std::atomic<bool> met{true};  // written by either thread
   team.Run(2, 1, [&](size_t, size_t) {
     {
       std::lock_guard<std::mutex> lock(ids_mutex);
