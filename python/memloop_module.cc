@@ -167,6 +167,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("loop_closure_images", &Result::loop_closure_images)
       .def_readonly("retrieved_ids", &Result::retrieved_ids)
       .def_readonly("retrievals_deferred", &Result::retrievals_deferred)
+      .def_readonly("retrievals_unread", &Result::retrievals_unread)
       .def_readonly("appearance_match_id", &Result::appearance_match_id)
       .def_readonly("appearance_match_z", &Result::appearance_match_z)
       .def_readonly("transferred_ids", &Result::transferred_ids)

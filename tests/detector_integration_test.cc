@@ -90,6 +90,23 @@ TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
   EXPECT_EQ(Score(route, results).false_positives, 0);
 }
 
+// Under T_time (on here, never reached) retrieval's rows are read by the read-ahead thread while
+// the writer writes the same file: every retrieval waits for them (the iteration has all the time
+// it needs), so none is left unread, and loops on retrieved locations are still found.
+TEST(DetectorIntegrationTest, RetrievalUnderTimeLimitReadsAhead) {
+  const SyntheticRoute route;
+  Options options = Deterministic();
+  options.memory.time_limit_ms = 1e9;
+  options.memory.max_wm_locations = 35;
+  ASSERT_TRUE(options.memory.retrieval_read_ahead);
+  int retrieved = 0;
+  for (const Result& result : RunRoute(route, options)) {
+    retrieved += static_cast<int>(result.retrieved_ids.size());
+    EXPECT_EQ(result.retrievals_unread, 0) << result.Brief();
+  }
+  EXPECT_GT(retrieved, 0);
+}
+
 // memory.retrieval_min_value: the highest hypothesis' LTM neighbours come back only when its value
 // reaches the threshold (retrieval by appearance off, so that every retrieval is the hypothesis').
 TEST(DetectorIntegrationTest, RetrievalWaitsForAHypothesisValue) {
@@ -330,22 +347,27 @@ std::string MapContent(const std::string& path) {
 }
 
 // With T_time on, a checkpoint the writer has not committed is not waited for (issue 9): with the
-// writer held, image 0 queues one, images 1-8 skip theirs, image 9 waits for it and queues the
-// next. With T_time off every image writes its own. The map resumes either way.
+// writer held, image 0 queues one, the next memory.checkpoint_max_skipped images skip theirs, and
+// the one after waits for it and queues the next (8: images 1-8 skip, 9 waits; 0: none skips).
+// With T_time off every image writes its own. The map resumes either way.
 TEST(DetectorIntegrationTest, UncommittedCheckpointIsSkippedOnlyWithTimeLimit) {
   const SyntheticRoute route(ShortRoute());
-  for (const double time_limit : {1e9, 0.0}) {
+  const int kDefault = Options().memory.checkpoint_max_skipped;
+  ASSERT_GT(kDefault, 12);
+  for (const auto& [time_limit, max_skipped] :
+       std::vector<std::pair<double, int>>{{1e9, 8}, {1e9, 0}, {1e9, kDefault}, {0.0, 8}}) {
     testing::TempDir dir;
     Options options;
     options.memory.time_limit_ms = time_limit;  // 1e9: on, but never reached
+    options.memory.checkpoint_max_skipped = max_skipped;
     {
       Detector detector(options, dir.File("map.db"));
       detector.SetWriterHeld(true);
       for (int index = 0; index < 12; ++index) {
         const Result result = detector.Process(route.Render(index), index);
-        const bool skipped = time_limit > 0 && index % 9 != 0;
+        const bool skipped = time_limit > 0 && index % (max_skipped + 1) != 0;
         EXPECT_EQ(result.times.checkpoint_ms == 0, skipped)
-            << "image " << index << ", T_time " << time_limit;
+            << "image " << index << ", T_time " << time_limit << ", skips " << max_skipped;
       }
       detector.Close();
     }

@@ -111,6 +111,11 @@ struct MemoryOptions {
   // later iteration (memloop, issue 9: re-matching one location's words costs about as much as
   // quantizing an image). 0: up to max_retrieved whatever the time (the paper).
   int retrieval_within_time = 1;
+  // 1 (with T_time on and retrieval_within_time): a thread reads ahead the map-file rows of the
+  // locations retrieval asks for, and a location is retrieved once they are read, waited for only
+  // as long as the iteration allows (memloop, issue 9: a row not in the OS's cache took 50-150 ms
+  // to read inside an iteration). 0: read when retrieved, whatever it takes (the paper).
+  int retrieval_read_ahead = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose
@@ -128,8 +133,13 @@ struct MemoryOptions {
   // other (the paper).
   int protect_hypothesis = 1;
   // A resume checkpoint every this many images (checkpoint.h). A crash loses at most
-  // 2 * checkpoint_interval images: the last committed checkpoint is at most one behind.
+  // 2 * checkpoint_interval images: the last committed checkpoint is at most one behind (with
+  // T_time on, checkpoint_max_skipped images more).
   int checkpoint_interval = 1;
+  // With T_time on, an image's checkpoint is skipped while the previous one is still being
+  // committed, at most this many in a row (memloop, issue 9: the writer's disk flush stalled for
+  // up to 580 ms); a crash then loses up to this many images more. 0: always waited for.
+  int checkpoint_max_skipped = 100;
   // 1: localization (as RTAB-Map's): images are matched against an existing map, which they do
   // not join. The map file is opened read-only; retrieval and transfer still move locations
   // between WM and LTM, in memory only. 0: mapping, the paper.

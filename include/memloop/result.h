@@ -59,6 +59,9 @@ struct Result {
   std::vector<LocationId> retrieved_ids;  // LTM -> WM this iteration
   // Retrievals left for a later iteration: with T_time on, no time was left for them.
   int retrievals_deferred = 0;
+  // Of those, the ones whose rows the reader thread had not read from the map file in time
+  // (memory.retrieval_read_ahead).
+  int retrievals_unread = 0;
   // Retrieval by appearance (memory.appearance_retrieval): the LTM location that looks most like
   // the image and how far its score stands out of LTM's (standard deviations); kNoLocation when
   // none was searched or none shares anything with the image.

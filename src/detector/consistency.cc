@@ -106,6 +106,9 @@ void CheckLtmLocation(LocationId id, const Memory& memory, LongTermMemory& ltm,
     return;
   }
   CheckLinks(*location, memory, ltm, problems);
+  if (ltm.LinksOf(id) != location->Links()) {
+    problems.Add("LTM's link graph in memory disagrees with the map file about " + Name(id));
+  }
   const Dictionary& dictionary = memory.dictionary();
   for (const auto& [word, count] : location->signature.Histogram()) {
     if (dictionary.Contains(word)) {

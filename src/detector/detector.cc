@@ -11,6 +11,7 @@
 #include "detector/hypothesis.h"
 #include "detector/likelihood.h"
 #include "detector/map_editor.h"
+#include "detector/map_parameters.h"
 #include "detector/memory.h"
 #include "detector/rehearsal.h"
 #include "detector/retrieval.h"
@@ -20,6 +21,7 @@
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
 #include "storage/long_term_memory.h"
+#include "storage/ltm_read_ahead.h"
 #include "vocabulary/appearance_index.h"
 
 namespace memloop {
@@ -48,42 +50,6 @@ const Options& Validated(const Options& options) {
   return options;
 }
 
-Options OptionsOf(LtmDatabase& database) {
-  Options options;
-  for (const Parameter& parameter : Parameters()) {
-    const std::string value = database.ReadInfo("param." + parameter.key);
-    if (value.empty()) continue;  // a parameter newer than the map: its default
-    try {
-      parameter.Set(options, value);
-    } catch (const Error& error) {
-      throw DatabaseError(database.path(),
-                          std::string("its parameter table is damaged (") + error.what() + ")");
-    }
-  }
-  return options;
-}
-
-// Resuming (or localizing) with other values of the parameters that define the map is refused,
-// naming each.
-void CheckMapParameters(LtmDatabase& database, const Options& options) {
-  const char* use = options.memory.localization ? "localize against it" : "resume";
-  const Options map_options = OptionsOf(database);
-  std::string differences;
-  for (const Parameter& parameter : Parameters()) {
-    if (!parameter.DefinesMap()) continue;
-    const std::string map_value = parameter.Get(map_options);
-    const std::string value = parameter.Get(options);
-    if (map_value == value) continue;
-    differences += (differences.empty() ? "" : ", ") + parameter.key + " (map: " + map_value +
-                   ", given: " + value + ")";
-  }
-  if (!differences.empty()) {
-    throw ParameterError(
-        "", database.path() + ": cannot " + use +
-                " with other values of parameters that define the map: " + differences);
-  }
-}
-
 // WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
 FilterOptions SelectionOptions(const Options& options) {
   FilterOptions selection = options.filter;
@@ -101,6 +67,16 @@ DictionaryOptions DictionaryOptionsOf(const Options& options) {
   return dictionary;
 }
 
+// Under T_time, retrieval's reads of the map file are made ahead by a thread of their own
+// (ltm_read_ahead.h); with T_time off every read is waited for, as a repeatable run needs.
+std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const std::string& path) {
+  const MemoryOptions& memory = options.memory;
+  if (memory.time_limit_ms <= 0 || !memory.retrieval_within_time || !memory.retrieval_read_ahead) {
+    return nullptr;
+  }
+  return std::make_unique<LtmReadAhead>(path);
+}
+
 std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
                                                      const FeatureExtractor& extractor) {
   if (!options.memory.appearance_retrieval) return nullptr;
@@ -110,11 +86,6 @@ std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
 }
 
 }  // namespace
-
-Options ReadMapOptions(const std::string& path) {
-  LtmDatabase database(path, LtmDatabase::Mode::kRead);
-  return OptionsOf(database);
-}
 
 class Detector::Impl {
  public:
@@ -126,6 +97,7 @@ class Detector::Impl {
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
         ltm_(database_path, FileMode(mode)),
+        read_ahead_(MakeReadAhead(options_, database_path)),
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
     if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before
@@ -283,10 +255,12 @@ class Detector::Impl {
   void Checkpoint(Result& result) {
     if (counters_.images_processed % options_.memory.checkpoint_interval != 0) return;
     // With T_time on, a checkpoint the writer has not committed yet (SQLite folding its WAL into
-    // the file takes 100 ms at times) is not waited for: this image's is skipped, at most
-    // kMaxSkippedCheckpoints in a row, and the next one holds its changes too (issue 9). A crash
-    // then loses up to that many images more; with T_time off nothing is skipped.
-    if (options_.memory.time_limit_ms > 0 && skipped_checkpoints_ < kMaxSkippedCheckpoints &&
+    // the file and flushing the disk stalled up to 580 ms) is not waited for: this image's is
+    // skipped, at most memory.checkpoint_max_skipped in a row, and the next one holds its changes
+    // too (issue 9). A crash then loses up to that many images more; with T_time off nothing is
+    // skipped.
+    if (options_.memory.time_limit_ms > 0 &&
+        skipped_checkpoints_ < options_.memory.checkpoint_max_skipped &&
         ltm_.CheckpointInFlight()) {
       ++skipped_checkpoints_;
       return;
@@ -468,17 +442,20 @@ class Detector::Impl {
     const bool above_noise = hypothesis.value >= options_.memory.retrieval_min_value;
     RetrievalOutcome outcome =
         Retrieve(above_noise ? hypothesis.id : kNoLocation, options_.memory.max_retrieved, range,
-                 memory_, ltm_, deadline);
+                 memory_, ltm_, deadline, read_ahead_.get());
     std::vector<LocationId> retrieved = outcome.retrieved;
     result.retrievals_deferred = outcome.deferred;
+    result.retrievals_unread = outcome.unread;
     if (appearance_ && appearance != nullptr) {
       const AppearanceMatch match = appearance_->Best(*appearance);
       result.appearance_match_id = match.id;
       result.appearance_match_z = match.z;
       if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
-        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline);
+        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline,
+                           read_ahead_.get());
         retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
         result.retrievals_deferred += outcome.deferred;
+        result.retrievals_unread += outcome.unread;
       }
     }
     if (result.retrievals_deferred > 0) retrieval_cost_.Deferred();
@@ -560,7 +537,6 @@ class Detector::Impl {
   Options options_;
   bool localizing_;                  // memory.localization: the map is read, never changed
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
-  static constexpr int kMaxSkippedCheckpoints = 8;
   int skipped_checkpoints_ = 0;
   double last_checkpoint_ms_ = 0;   // counted in the next iteration's time check
   bool retrieval_lagging_ = false;  // a retrieval was deferred in the last iteration
@@ -570,6 +546,7 @@ class Detector::Impl {
   Memory memory_;
   BayesFilter filter_;
   LongTermMemory ltm_;
+  std::unique_ptr<LtmReadAhead> read_ahead_;     // null with T_time off
   std::unique_ptr<AppearanceIndex> appearance_;  // null without retrieval by appearance
   MapEditor editor_;
   DetectorCounters counters_;

@@ -106,8 +106,12 @@ std::vector<Parameter> MakeRegistry() {
         .Help("The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared with T_loop) reaches this (0 = whatever the value, the paper)"),
     Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()
         .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
+    Param("memory.retrieval_read_ahead", MEMLOOP_FIELD(memory.retrieval_read_ahead)).Flag()
+        .Help("true, with T_time on and memory.retrieval_within_time: a thread reads the map-file rows of the locations to retrieve, and one is retrieved once they are read, waited for only as long as the iteration allows (false = read when retrieved, whatever the disk takes, the paper)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
+    Param("memory.checkpoint_max_skipped", MEMLOOP_FIELD(memory.checkpoint_max_skipped)).Unit("images")
+        .Range(0, 100000).Help("With T_time on, an image's checkpoint is skipped while the previous one is still being committed, at most this many in a row; a crash then loses up to as many images more (0 = always waited for)"),
     Param("memory.appearance_retrieval", MEMLOOP_FIELD(memory.appearance_retrieval)).Flag()
         .Help("true: the LTM location that looks most like the image is retrieved with its neighbours when it stands out (false = only the highest hypothesis' neighbours, the paper)"),
     Param("memory.appearance_vocabulary", MEMLOOP_FIELD(memory.appearance_vocabulary)).Unit("words")

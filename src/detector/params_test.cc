@@ -59,6 +59,7 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           "filter.hypothesis_value", "filter.require_support", "filter.ltm_neighbour_check",
           "memory.time_target", "memory.transfer_max_fraction", "sift.upright", "orb.upright",
           "memory.appearance_retrieval", "memory.retrieval_within_time",
+          "memory.retrieval_read_ahead",
           "memory.max_dictionary_words", "memory.retrieval_min_value",
           "features.min_image_side"}));
 }

@@ -13,6 +13,7 @@ Options Options::Paper2011() {
   options.memory.protect_hypothesis = 0;
   options.memory.appearance_retrieval = 0;
   options.memory.retrieval_within_time = 0;
+  options.memory.retrieval_read_ahead = 0;
   options.memory.retrieval_min_value = 0;
   options.memory.time_target = 1.0;
   options.memory.transfer_max_fraction = 0;

@@ -48,17 +48,27 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
 }
 
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const StepDeadline& deadline) {
+                          LongTermMemory& ltm, const StepDeadline& deadline,
+                          LtmReadAhead* read_ahead) {
   RetrievalOutcome outcome;
   if (highest == kNoLocation || max_retrieved <= 0) return outcome;
   const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
     return memory.Contains(id) ? memory.LinksOf(id) : ltm.LinksOf(id);
   });
+  std::vector<LocationId> in_ltm;  // nearest first, then oldest
   for (const auto& [id, distance] : neighbourhood) {
+    if (ltm.Contains(id)) in_ltm.push_back(id);
+  }
+  if (read_ahead != nullptr) read_ahead->Request(in_ltm);
+  for (LocationId id : in_ltm) {
     if (static_cast<int>(outcome.retrieved.size()) + outcome.deferred >= max_retrieved) break;
-    if (!ltm.Contains(id)) continue;
     if (!deadline.Fits()) {
       ++outcome.deferred;
+      continue;
+    }
+    if (read_ahead != nullptr && !read_ahead->WaitRead(id, deadline.SlackMs())) {
+      ++outcome.deferred;
+      ++outcome.unread;
       continue;
     }
     const Stopwatch stopwatch;

@@ -6,6 +6,7 @@
 #include "detector/memory.h"
 #include "detector/step_deadline.h"
 #include "storage/long_term_memory.h"
+#include "storage/ltm_read_ahead.h"
 
 namespace memloop {
 
@@ -14,6 +15,7 @@ struct RetrievalOutcome {
   int words_added = 0;     // unmatched words put back into the dictionary
   int words_replaced = 0;  // old words re-matched to newer ones
   int deferred = 0;        // left in LTM this iteration: no time left for them (StepDeadline)
+  int unread = 0;          // of those, deferred because their rows were not read in time
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest
@@ -25,8 +27,13 @@ struct RetrievalOutcome {
 // ... because this step is time consuming"), but re-matching one location's words costs about as
 // much as quantizing an image. Deferred ones stay in LTM until an iteration has room (the highest
 // hypothesis, and an appearance match, usually hold over several images).
+// With `read_ahead` (memory.retrieval_read_ahead, T_time on), every LTM location of the
+// neighbourhood is requested from the reader thread, nearest first, and one is retrieved only once
+// its rows are read, waited for no longer than `deadline` leaves; otherwise it is deferred too,
+// and the reader goes on reading it for a later iteration (a row not in the OS's cache: 50-150 ms).
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline());
+                          LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline(),
+                          LtmReadAhead* read_ahead = nullptr);
 
 // The words of `location` that left the dictionary, re-matched as above (exposed for tests).
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm);

@@ -82,5 +82,25 @@ TEST_F(RetrievalTest, RetrievalsThatDoNotFitAreDeferred) {
   EXPECT_TRUE(cost.measured());
 }
 
+// Read ahead (T_time on): a location whose rows are not read in time is deferred like one that does
+// not fit, and stays requested; once read, the same locations come back as without read-ahead.
+TEST_F(RetrievalTest, LocationsWhoseRowsAreNotReadYetAreDeferred) {
+  ltm_->Flush();  // the reader sees the file only
+  LtmReadAhead read_ahead(ltm_->path());
+  read_ahead.SetHeld(true);  // a disk that does not answer within the iteration
+  StepCost cost;
+  const StepDeadline deadline([] { return 0.0; }, 1e9, &cost);
+  const RetrievalOutcome unread = Retrieve(ids_[0], 2, 4, memory_, *ltm_, deadline, &read_ahead);
+  EXPECT_TRUE(unread.retrieved.empty());
+  EXPECT_EQ(unread.deferred, 2);
+  EXPECT_EQ(unread.unread, 2);
+  EXPECT_EQ(read_ahead.queued(), 3u);  // the whole neighbourhood in LTM, L4 too
+  EXPECT_EQ(ltm_->size(), 3u);
+  read_ahead.SetHeld(false);
+  const RetrievalOutcome read = Retrieve(ids_[0], 2, 4, memory_, *ltm_, deadline, &read_ahead);
+  EXPECT_EQ(read.retrieved, (std::vector<LocationId>{ids_[1], ids_[2]}));
+  EXPECT_EQ(read.deferred, 0);
+}
+
 }  // namespace
 }  // namespace memloop

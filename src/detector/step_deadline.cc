@@ -1,6 +1,8 @@
 #include "detector/step_deadline.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace memloop {
 
@@ -25,8 +27,17 @@ void StepCost::Deferred() {
 
 bool StepDeadline::Fits() const {
   if (!elapsed_ms_ || deadline_ms_ <= 0) return true;
+  return elapsed_ms_() + ExpectedMs() <= deadline_ms_;
+}
+
+double StepDeadline::SlackMs() const {
+  if (!elapsed_ms_ || deadline_ms_ <= 0) return std::numeric_limits<double>::infinity();
+  return std::max(0.0, deadline_ms_ - elapsed_ms_() - ExpectedMs());
+}
+
+double StepDeadline::ExpectedMs() const {
   const bool estimated = cost_ != nullptr && !cost_->probe_due();
-  return elapsed_ms_() + (estimated ? cost_->expected_ms() : 0) <= deadline_ms_;
+  return estimated ? cost_->expected_ms() : 0;
 }
 
 void StepDeadline::Record(double ms) const {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace memloop {
 namespace {
 
@@ -31,6 +33,17 @@ TEST(StepDeadlineTest, AStepFitsWhenItsExpectedTimeEndsBeforeTheDeadline) {
   StepCost unmeasured;
   EXPECT_TRUE(StepDeadline(at(39), 40, &unmeasured).Fits());
   EXPECT_FALSE(StepDeadline(at(41), 40, &unmeasured).Fits());  // already past it
+}
+
+TEST(StepDeadlineTest, SlackIsWhatIsLeftAfterTheExpectedTime) {
+  StepCost cost;
+  cost.Record(8);  // expected 16
+  const auto at = [](double ms) { return [ms] { return ms; }; };
+  EXPECT_DOUBLE_EQ(StepDeadline(at(20), 40, &cost).SlackMs(), 4);  // 40 - 20 - 16
+  EXPECT_DOUBLE_EQ(StepDeadline(at(30), 40, &cost).SlackMs(), 0);  // late: none, not -6
+  EXPECT_DOUBLE_EQ(StepDeadline(at(20), 40, nullptr).SlackMs(), 20);
+  EXPECT_TRUE(std::isinf(StepDeadline(at(20), 0, &cost).SlackMs()));  // no deadline
+  EXPECT_TRUE(std::isinf(StepDeadline().SlackMs()));
 }
 
 TEST(StepDeadlineTest, DeferralsShrinkTheBoundAndEndInAProbe) {

@@ -49,6 +49,9 @@ LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
       max_pending_bytes_(options.max_pending_bytes),
       max_page_count_(options.max_page_count) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
+  for (const auto& [from, to] : reader_.ReadAllLinks()) {
+    if (Contains(from)) links_[from].push_back(to);
+  }
   if (!read_only_) writer_ = std::thread([this, options] { WriterLoop(options); });
 }
 
@@ -156,6 +159,19 @@ void LongTermMemory::Enqueue(Operation operation) {
 void LongTermMemory::Store(const Location& location) {
   ids_.insert(location.id);
   Enqueue(StoreLocation{location});
+  SetLinks(location);
+}
+
+void LongTermMemory::SetLinks(const Location& location) {
+  Location links_only;
+  links_only.id = location.id;
+  links_only.neighbours = location.neighbours;
+  links_only.loop_closures = location.loop_closures;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Rewrite(links_only);
+  }
+  links_[location.id] = links_only.Links();
 }
 
 void LongTermMemory::StoreWord(WordId id, const cv::Mat& descriptor) {
@@ -171,10 +187,33 @@ void LongTermMemory::ReplaceWord(WordId old_id, WordId new_id) {
 void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor) {
   ids_.erase(absorbed);
   Enqueue(RedirectOp{absorbed, survivor});
+  links_.erase(absorbed);
+  // Links are symmetric, but the absorbed location may be in memory: every entry is looked at
+  // (a few hundred microseconds at 50,000 LTM locations; absorptions are rare).
+  for (auto& [id, links] : links_) {
+    const auto link = std::lower_bound(links.begin(), links.end(), absorbed);
+    if (link == links.end() || *link != absorbed) continue;
+    links.erase(link);
+    const auto place = std::lower_bound(links.begin(), links.end(), survivor);
+    if (survivor != id && (place == links.end() || *place != survivor)) {
+      links.insert(place, survivor);
+    }
+  }
 }
 
 void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) {
   Enqueue(AddLinkOp{from, to, loop_closure});
+  const auto links = links_.find(from);
+  if (links == links_.end()) return;
+  LocationId target = to;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    target = Redirected(to);
+  }
+  const auto place = std::lower_bound(links->second.begin(), links->second.end(), target);
+  if (target != from && (place == links->second.end() || *place != target)) {
+    links->second.insert(place, target);
+  }
 }
 
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
@@ -218,17 +257,13 @@ void LongTermMemory::Rewrite(Location& location) const {
   }
 }
 
-std::optional<Location> LongTermMemory::ReadLocked(LocationId id, bool links_only) {
+std::optional<Location> LongTermMemory::ReadLocked(LocationId id) {
   // Called with mutex_ held. The writer may commit during the read, but it forgets a committed
   // write only under mutex_, so the overlay still holds it and applying it twice is harmless.
   std::optional<Location> location;
   const auto pending = pending_locations_.find(id);
   if (pending != pending_locations_.end()) {
     location = pending->second.second;
-  } else if (links_only) {
-    location.emplace();
-    location->id = id;
-    for (LocationId link : reader_.ReadLinks(id)) location->neighbours.insert(link);
   } else {
     location = reader_.ReadLocation(id);
   }
@@ -239,7 +274,7 @@ std::optional<Location> LongTermMemory::ReadLocked(LocationId id, bool links_onl
 std::optional<Location> LongTermMemory::Peek(LocationId id) {
   if (!Contains(id)) return std::nullopt;
   std::lock_guard<std::mutex> lock(mutex_);
-  return ReadLocked(id, /*links_only=*/false);
+  return ReadLocked(id);
 }
 
 std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
@@ -248,10 +283,11 @@ std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ThrowIfFailedLocked();
-    location = ReadLocked(id, /*links_only=*/false);
+    location = ReadLocked(id);
   }
   if (!location) throw DatabaseError(path_, "location " + std::to_string(id) + " is missing");
   ids_.erase(id);
+  links_.erase(id);
   return location;
 }
 
@@ -263,11 +299,10 @@ std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
   return reader_.ReadWord(id);
 }
 
-std::vector<LocationId> LongTermMemory::LinksOf(LocationId id) {
-  if (!Contains(id)) return {};
-  std::lock_guard<std::mutex> lock(mutex_);
-  const std::optional<Location> location = ReadLocked(id, /*links_only=*/true);
-  return location ? location->Links() : std::vector<LocationId>();
+const std::vector<LocationId>& LongTermMemory::LinksOf(LocationId id) const {
+  static const std::vector<LocationId> kNone;
+  const auto links = links_.find(id);
+  return links == links_.end() ? kNone : links->second;
 }
 
 void LongTermMemory::Checkpoint(CheckpointData checkpoint) {

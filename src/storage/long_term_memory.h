@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <variant>
 #include <vector>
 
@@ -54,11 +55,17 @@ class LongTermMemory {
   std::optional<Location> Peek(LocationId id);
   // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
   std::optional<std::vector<unsigned char>> LoadWord(WordId id);
-  // Links of a location in LTM, sorted; empty when it is not in LTM.
-  std::vector<LocationId> LinksOf(LocationId id);
+  // Links of a location in LTM, sorted; empty when it is not in LTM. From LTM's link graph, held
+  // in memory (issue 9): retrieval walks it at every iteration, and reading it from the file
+  // waited 400 ms for the disk once the OS had dropped the file's pages from its cache. The same
+  // answers as the file with the queued writes (CheckConsistency compares them).
+  const std::vector<LocationId>& LinksOf(LocationId id) const;
   bool Contains(LocationId id) const { return ids_.count(id) > 0; }
   // Resuming: `id` is in memory (rows it has in the file are an older copy).
-  void Exclude(LocationId id) { ids_.erase(id); }
+  void Exclude(LocationId id) {
+    ids_.erase(id);
+    links_.erase(id);
+  }
   const std::set<LocationId>& ids() const { return ids_; }
   size_t size() const { return ids_.size(); }
 
@@ -157,16 +164,20 @@ class LongTermMemory {
   // Waits (mutex_ held by `lock`) until `done` or a writer failure, which it rethrows.
   template <typename Predicate>
   void WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done);
-  std::optional<Location> ReadLocked(LocationId id, bool links_only);
+  std::optional<Location> ReadLocked(LocationId id);
   // Applies queued renames, redirections and links to a location read from the queue or file.
   void Rewrite(Location& location) const;
   WordId Renamed(WordId word) const;
   LocationId Redirected(LocationId id) const;
+  // links_[id] from the links `location` is stored with, as a read would give them.
+  void SetLinks(const Location& location);
 
   std::string path_;
   bool read_only_;
   LtmDatabase reader_;
   std::set<LocationId> ids_;  // locations now in LTM
+  // Their links (LinksOf), sorted: changed by the detector's thread only, as ids_.
+  std::unordered_map<LocationId, std::vector<LocationId>> links_;
 
   mutable std::mutex mutex_;
   std::condition_variable wake_writer_;

@@ -145,7 +145,7 @@ TEST_P(LongTermMemoryChainTest, RenamesAndRedirectionsResolveToTheirEnd) {
   ltm.Flush();
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kOpen);
   EXPECT_EQ(database.ReadLocation(5)->signature.words, (std::vector<WordId>{30, 11}));
-  EXPECT_EQ(database.ReadLinks(5), (std::vector<LocationId>{4, 8}));
+  EXPECT_EQ(database.ReadLocation(5)->Links(), (std::vector<LocationId>{4, 8}));
 }
 
 INSTANTIATE_TEST_SUITE_P(WriterBehindOrNot, LongTermMemoryChainTest, ::testing::Bool());
@@ -161,6 +161,42 @@ TEST(LongTermMemoryTest, AddedLinksAreReadBeforeAndAfterCommit) {
   ltm.Flush();
   EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
   EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6, 40}));
+}
+
+// LTM's link graph is held in memory (LinksOf); it must say what a read of the file with the
+// queued writes says, through stores, added links, redirections and retrievals, and be loaded
+// from the file when the map is opened again.
+TEST(LongTermMemoryTest, LinkGraphInMemoryAgreesWithTheFile) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  const auto agrees = [](LongTermMemory& ltm, LocationId id) {
+    return ltm.LinksOf(id) == ltm.Peek(id)->Links();
+  };
+  {
+    LongTermMemory ltm(path);
+    ltm.SetWriterHeld(true);
+    for (LocationId id : {5, 6, 7}) ltm.Store(MakeLocation(id, {1}));
+    ltm.RedirectLocation(8, 9);  // 8 (in memory) merged into 9: LTM's 7 links to 9 now
+    EXPECT_EQ(ltm.LinksOf(7), (std::vector<LocationId>{6, 9}));
+    ltm.AddLink(5, 9, /*loop_closure=*/true);
+    EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6, 9}));
+    ltm.AddLink(5, 6, /*loop_closure=*/true);  // a neighbour already: one link
+    ltm.RedirectLocation(6, 5);                // 6 merged into 5: no link of 5 to itself
+    EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 9}));
+    EXPECT_EQ(ltm.LinksOf(7), (std::vector<LocationId>{5, 9}));
+    EXPECT_TRUE(ltm.LinksOf(6).empty());
+    for (LocationId id : {5, 7}) EXPECT_TRUE(agrees(ltm, id)) << id;
+    ASSERT_TRUE(ltm.Retrieve(7).has_value());
+    EXPECT_TRUE(ltm.LinksOf(7).empty());  // back in WM
+    ltm.SetWriterHeld(false);
+    ltm.Flush();
+    EXPECT_TRUE(agrees(ltm, 5));
+  }
+  LongTermMemory reopened(path, LtmDatabase::Mode::kOpen);
+  EXPECT_EQ(reopened.LinksOf(5), (std::vector<LocationId>{4, 9}));
+  EXPECT_EQ(reopened.LinksOf(7), (std::vector<LocationId>{5, 9}));  // its rows stayed in the file
+  reopened.Exclude(7);                                              // resuming: 7 is in memory
+  EXPECT_TRUE(reopened.LinksOf(7).empty());
 }
 
 // Back-pressure: a held writer is made to commit once the queue is full, so RAM stays bounded.

@@ -100,7 +100,7 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
                         "already holds a memloop map; a run starts a new map, so choose "
                         "another --db path (the existing map is left untouched)");
   }
-  if (mode != Mode::kAttach) {
+  if (mode != Mode::kAttach && mode != Mode::kPeek) {
     SqliteStatement check(connection, "PRAGMA quick_check");
     const std::string verdict = check.Step() ? check.Text(0) : "no answer";
     if (verdict != "ok") throw DatabaseError(path, "the map is damaged (" + verdict + ")");
@@ -111,9 +111,9 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
 LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
     : format_version_(CheckMapFile(path, mode)),
       connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
-                        : mode == Mode::kRead ? SQLITE_OPEN_READONLY
-                                              : SQLITE_OPEN_READWRITE) {
-  if (mode == Mode::kRead) return;
+                        : mode == Mode::kRead || mode == Mode::kPeek ? SQLITE_OPEN_READONLY
+                                                                     : SQLITE_OPEN_READWRITE) {
+  if (mode == Mode::kRead || mode == Mode::kPeek) return;
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).
   connection_.Execute(
@@ -391,6 +391,17 @@ std::vector<LocationId> LtmDatabase::ReadLocationIds() {
   return ids;
 }
 
+std::vector<std::pair<LocationId, LocationId>> LtmDatabase::ReadAllLinks() {
+  auto& query = Cached("SELECT DISTINCT from_id, to_id FROM links ORDER BY from_id, to_id");
+  std::vector<std::pair<LocationId, LocationId>> links;
+  while (query.Step()) {
+    links.emplace_back(static_cast<LocationId>(query.Int(0)),
+                       static_cast<LocationId>(query.Int(1)));
+  }
+  query.Reset();
+  return links;
+}
+
 std::vector<std::pair<LocationId, std::vector<unsigned char>>> LtmDatabase::ReadMemoryLocations() {
   auto& query = Cached("SELECT id, data FROM memory_locations ORDER BY id");
   std::vector<std::pair<LocationId, std::vector<unsigned char>>> rows;
@@ -487,15 +498,6 @@ std::optional<std::vector<unsigned char>> LtmDatabase::ReadWord(WordId id) {
   if (query.Step()) descriptor = query.Blob(0);
   query.Reset();
   return descriptor;
-}
-
-std::vector<LocationId> LtmDatabase::ReadLinks(LocationId id) {
-  auto& query = Cached("SELECT DISTINCT to_id FROM links WHERE from_id=? ORDER BY to_id");
-  query.Bind(1, static_cast<long long>(id));
-  std::vector<LocationId> links;
-  while (query.Step()) links.push_back(static_cast<LocationId>(query.Int(0)));
-  query.Reset();
-  return links;
 }
 
 std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {

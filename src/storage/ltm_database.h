@@ -59,6 +59,7 @@ class LtmDatabase {
     kRead,    // an existing memloop map, read only (its file is never written)
     kAttach,  // as kOpen, for a further connection to a map another one has just opened: its
               // identity is checked, not its integrity again (quick_check reads the whole file)
+    kPeek,    // as kRead, for a further connection to a map another one has just opened
   };
   // Throws DatabaseError naming the file: not a regular file, not SQLite, not memloop's, newer
   // format, damaged header or content, or (kCreate) already holding a map. A refused file is never
@@ -91,7 +92,6 @@ class LtmDatabase {
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
-  std::vector<LocationId> ReadLinks(LocationId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
   std::string ReadInfo(const std::string& key);
   // Every info row whose key starts with `prefix`, sorted by key.
@@ -100,6 +100,9 @@ class LtmDatabase {
   long long QueryNumber(const std::string& sql);
   // Every location id with rows in LTM, sorted.
   std::vector<LocationId> ReadLocationIds();
+  // Every link (from, to) of the file, sorted, each once (a neighbour and a loop closure to the
+  // same location are one link).
+  std::vector<std::pair<LocationId, LocationId>> ReadAllLinks();
   // The checkpoint's rows: (id, blob) of memory locations and index points in point order.
   std::vector<std::pair<LocationId, std::vector<unsigned char>>> ReadMemoryLocations();
   std::vector<CheckpointData::Point> ReadIndexPoints();

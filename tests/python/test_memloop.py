@@ -95,6 +95,7 @@ def test_grey_images_and_results(tmp_path):
     assert result.feature_count > 0 and result.times.total_ms > 0
     # Nothing in LTM yet: nothing retrieved, deferred or matched by appearance.
     assert result.retrieved_ids == [] and result.retrievals_deferred == 0
+    assert result.retrievals_unread == 0
     assert result.appearance_match_id == 0 and result.appearance_match_z == 0
     assert "image 0 -> location 1" in repr(result)
     detector.close()
