@@ -119,6 +119,19 @@ TEST_F(RefusedDatabaseTest, NotSqlite) {
   const std::string path = dir_.File("notes.db");
   std::ofstream(path) << "these are my notes, not a database\n";
   ExpectRefused(path, "not a memloop map");
+  ExpectRefused(path, "not a memloop map", LtmDatabase::Mode::kPeek);
+}
+
+// A further read-only connection (the read-ahead thread's): the map's identity is checked, its
+// rows are read, and nothing can be written through it.
+TEST_F(RefusedDatabaseTest, PeekReadsAndNeverWrites) {
+  const std::string path = dir_.File("map.db");
+  LtmDatabase owner(path, LtmDatabase::Mode::kCreate);
+  owner.WriteLocation(SampleLocation());
+  LtmDatabase peek(path, LtmDatabase::Mode::kPeek);
+  ExpectSameLocation(*peek.ReadLocation(12), SampleLocation());
+  EXPECT_THROW(peek.WriteWord(99, {1, 2, 3, 4}), DatabaseError);
+  ExpectRefused(dir_.File("absent.db"), "no such file", LtmDatabase::Mode::kPeek);
 }
 
 TEST_F(RefusedDatabaseTest, AnotherApplicationsDatabase) {
@@ -128,6 +141,7 @@ TEST_F(RefusedDatabaseTest, AnotherApplicationsDatabase) {
     other.Execute("CREATE TABLE customers(name TEXT); INSERT INTO customers VALUES('ada');");
   }
   ExpectRefused(path, "not a memloop map");
+  ExpectRefused(path, "not a memloop map", LtmDatabase::Mode::kPeek);
 }
 
 TEST_F(RefusedDatabaseTest, ExistingMapIsNotOverwritten) {
