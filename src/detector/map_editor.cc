@@ -30,8 +30,9 @@ void MapEditor::ReplaceSignature(LocationId id, Signature signature) {
 void MapEditor::Merge(LocationId survivor, LocationId absorbed) {
   // Links of `absorbed` to LTM locations: the survivor gets them here, and the LTM side is
   // redirected to the survivor below, so no link is written twice.
+  const std::vector<LocationId> linked = memory_.at(absorbed).Links();
   ReleaseWords(memory_.Absorb(survivor, absorbed));
-  ltm_.RedirectLocation(absorbed, survivor);
+  ltm_.RedirectLocation(absorbed, survivor, linked);
   filter_.Remove(absorbed);
   if (appearance_ != nullptr) appearance_->Erase(absorbed);
   for (PastMatch& match : past_matches_) {

@@ -184,13 +184,22 @@ void LongTermMemory::ReplaceWord(WordId old_id, WordId new_id) {
   Enqueue(ReplaceWordOp{old_id, new_id});
 }
 
-void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor) {
+void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor,
+                                      const std::vector<LocationId>& linked) {
   ids_.erase(absorbed);
   Enqueue(RedirectOp{absorbed, survivor});
-  links_.erase(absorbed);
-  // Links are symmetric, but the absorbed location may be in memory: every entry is looked at
-  // (a few hundred microseconds at 50,000 LTM locations; absorptions are rare).
-  for (auto& [id, links] : links_) {
+  // Links are symmetric: only the locations linked to `absorbed` can name it. An LTM location
+  // knows them itself; one in memory, whose links LTM does not hold, is told them (`linked`).
+  // Looking at every entry instead cost 5 ms per Rehearsal merge at 40,000 LTM locations.
+  std::vector<LocationId> named = linked;
+  if (const auto own = links_.find(absorbed); own != links_.end()) {
+    named.insert(named.end(), own->second.begin(), own->second.end());
+    links_.erase(own);
+  }
+  for (LocationId id : named) {
+    const auto entry = links_.find(id);
+    if (entry == links_.end()) continue;
+    std::vector<LocationId>& links = entry->second;
     const auto link = std::lower_bound(links.begin(), links.end(), absorbed);
     if (link == links.end() || *link != absorbed) continue;
     links.erase(link);

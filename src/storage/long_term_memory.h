@@ -71,8 +71,10 @@ class LongTermMemory {
 
   // Every reference to the word `old_id` becomes `new_id` (re-matched on retrieval, III-E).
   void ReplaceWord(WordId old_id, WordId new_id);
-  // `absorbed` was merged into `survivor`: links to it now point to the survivor.
-  void RedirectLocation(LocationId absorbed, LocationId survivor);
+  // `absorbed` was merged into `survivor`: links to it now point to the survivor. `linked`: the
+  // locations linked to `absorbed` when it was in memory (its Links()); LTM knows its own.
+  void RedirectLocation(LocationId absorbed, LocationId survivor,
+                        const std::vector<LocationId>& linked);
   // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
   void AddLink(LocationId from, LocationId to, bool loop_closure);
   void RecordLoopClosure(const LoopClosureRecord& record);

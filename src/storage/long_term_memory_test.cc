@@ -33,7 +33,7 @@ TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
   EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
   ltm.Flush();
   EXPECT_EQ(*ltm.LoadWord(2), testing::FloatBytes({0.5f, 0.25f}));
-  ltm.RedirectLocation(6, 9);  // 6 was merged into 9
+  ltm.RedirectLocation(6, 9, {5, 7});  // 6 (in memory) was merged into 9
   EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 9}));
   const auto location = ltm.Retrieve(5);
   ASSERT_TRUE(location.has_value());
@@ -130,9 +130,9 @@ TEST_P(LongTermMemoryChainTest, RenamesAndRedirectionsResolveToTheirEnd) {
   sync();
   ltm.ReplaceWord(20, 30);  // ... and was re-matched to 30
   sync();
-  ltm.RedirectLocation(6, 7);  // 6 merged into 7, then 7 into 8
+  ltm.RedirectLocation(6, 7, {5, 7});  // 6 merged into 7, then 7 into 8
   sync();
-  ltm.RedirectLocation(7, 8);
+  ltm.RedirectLocation(7, 8, {5, 8});
   sync();
   EXPECT_FALSE(ltm.LoadWord(10).has_value());
   EXPECT_FALSE(ltm.LoadWord(20).has_value());
@@ -176,12 +176,12 @@ TEST(LongTermMemoryTest, LinkGraphInMemoryAgreesWithTheFile) {
     LongTermMemory ltm(path);
     ltm.SetWriterHeld(true);
     for (LocationId id : {5, 6, 7}) ltm.Store(MakeLocation(id, {1}));
-    ltm.RedirectLocation(8, 9);  // 8 (in memory) merged into 9: LTM's 7 links to 9 now
+    ltm.RedirectLocation(8, 9, {7, 9});  // 8 (in memory) merged into 9: LTM's 7 links to 9 now
     EXPECT_EQ(ltm.LinksOf(7), (std::vector<LocationId>{6, 9}));
     ltm.AddLink(5, 9, /*loop_closure=*/true);
     EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6, 9}));
     ltm.AddLink(5, 6, /*loop_closure=*/true);  // a neighbour already: one link
-    ltm.RedirectLocation(6, 5);                // 6 merged into 5: no link of 5 to itself
+    ltm.RedirectLocation(6, 5, {});            // 6 (in LTM) merged into 5: no link of 5 to itself
     EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 9}));
     EXPECT_EQ(ltm.LinksOf(7), (std::vector<LocationId>{5, 9}));
     EXPECT_TRUE(ltm.LinksOf(6).empty());
