@@ -11,7 +11,8 @@
 # docs/scale-time.png. Frames are rendered on the fly (memloop demo --places): nothing on disk but
 # the maps and CSVs. Usage: bench/scale.sh [PLACES] > docs/scale-run.md
 # Environment: RUNS="time budget off", TTIME_MS, BUDGET=500, MIN_AGE=10000, OFF_SECONDS=1800,
-# BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one).
+# BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one), SETS="name=value ..."
+# given to every run (calibration included) after the run's own.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -26,6 +27,7 @@ sequence=(--places "$places" --frames-per-place 10 --revisit-every 10 --min-revi
 
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 echo "sequence: memloop demo ${sequence[*]}"
+[ -n "${SETS:-}" ] && echo "every run: --set $SETS"
 
 # One run: memloop demo with the given --set values; RSS sampled every second against the rows
 # written so far.
@@ -35,8 +37,10 @@ run() {  # name seconds(0 = no limit) sets...
   rm -f "$out/$name.db"*
   local limit=()
   [ "$seconds" != 0 ] && limit=(timeout --signal=KILL "$seconds")
+  local extra=()
+  [ -n "${SETS:-}" ] && read -r -a extra <<<"$SETS"
   "${limit[@]}" /usr/bin/time -f "%M" -o "$out/$name.peak" "$build/memloop" demo "${sequence[@]}" \
-    --set "$@" --db "$out/$name.db" --out "$out/$name.csv" >"$out/$name.txt" 2>/dev/null &
+    --set "$@" "${extra[@]}" --db "$out/$name.db" --out "$out/$name.csv" >"$out/$name.txt" 2>/dev/null &
   local pid=$!
   : >"$out/$name.rss"
   while kill -0 "$pid" 2>/dev/null; do

@@ -128,6 +128,11 @@ struct MemoryOptions {
   // How far (standard deviations over LTM's scores) the best LTM location must stand out to be
   // retrieved by appearance.
   double appearance_min_z = 8.0;
+  // A search by appearance sums the image's rarest entries first, and stops before their
+  // postings (LTM locations holding them) pass this many, so that its time stops growing with LTM
+  // (~3.7 postings per LTM location: 1 ms at 25,000). 0: every entry. Off by default: at 20,000,
+  // 50,000 images found 3.4% fewer revisit images for 0.35 ms (docs/design.md).
+  int appearance_max_postings = 0;
   // 1: the highest hypothesis' WM neighbourhood (with the locations retrieved for it) is
   // transferred only after every other WM location (memloop); 0: by weight and age like any
   // other (the paper).

@@ -81,8 +81,8 @@ std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
                                                      const FeatureExtractor& extractor) {
   if (!options.memory.appearance_retrieval) return nullptr;
   return std::make_unique<AppearanceIndex>(extractor.Kind(), extractor.DescriptorDim(),
-                                           options.memory.appearance_vocabulary,
-                                           options.dictionary);
+                                           options.memory.appearance_vocabulary, options.dictionary,
+                                           options.memory.appearance_max_postings);
 }
 
 }  // namespace

@@ -9,11 +9,12 @@
 namespace memloop {
 
 AppearanceIndex::AppearanceIndex(DescriptorKind kind, int descriptor_dim, int vocabulary_size,
-                                 const DictionaryOptions& index_options)
+                                 const DictionaryOptions& index_options, size_t max_postings)
     : kind_(kind),
       descriptor_dim_(descriptor_dim),
       vocabulary_size_(vocabulary_size),
       index_options_(index_options),
+      max_postings_(max_postings),
       postings_(static_cast<size_t>(std::max(vocabulary_size, 0))) {
   index_options_.rebuild_delay = 0;  // built once, when frozen, in the calling thread
   // A coarse quantizer: one tree and few checks cost a third of the dictionary's search, and a
@@ -140,16 +141,39 @@ double Normalized(double shared_weight, size_t query_size, size_t location_size)
 
 }  // namespace
 
+std::vector<std::pair<AppearanceEntry, double>> AppearanceIndex::SummedEntries(
+    const Appearance& query, size_t extra) const {
+  const double searched = static_cast<double>(searched_.size() + extra);
+  std::vector<std::pair<AppearanceEntry, double>> summed;
+  for (AppearanceEntry entry : query) {
+    const double idf = EntryWeight(postings_[entry].size() + extra, searched);
+    if (idf > 0) summed.emplace_back(entry, idf);
+  }
+  size_t postings = 0;
+  for (const auto& [entry, idf] : summed) postings += postings_[entry].size();
+  if (max_postings_ == 0 || postings <= max_postings_) return summed;
+  // Rarest first (the highest idf), ties by entry: the same choice on a resumed map.
+  std::sort(summed.begin(), summed.end(), [&](const auto& a, const auto& b) {
+    const size_t held_a = postings_[a.first].size(), held_b = postings_[b.first].size();
+    return held_a != held_b ? held_a < held_b : a.first < b.first;
+  });
+  postings = 0;
+  size_t kept = 0;
+  for (; kept < summed.size(); ++kept) {
+    postings += postings_[summed[kept].first].size();
+    if (postings > max_postings_) break;
+  }
+  summed.resize(kept);
+  return summed;
+}
+
 AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   AppearanceMatch best;
   const double searched = static_cast<double>(searched_.size());
   if (query.empty() || searched == 0) return best;
   std::vector<LocationId> touched;
-  for (AppearanceEntry entry : query) {
-    const std::vector<LocationId>& posting = postings_[entry];
-    const double idf = EntryWeight(posting.size(), searched);
-    if (idf == 0) continue;
-    for (LocationId id : posting) {
+  for (const auto& [entry, idf] : SummedEntries(query, 0)) {
+    for (LocationId id : postings_[entry]) {
       const auto slot = static_cast<size_t>(id);
       if (slot >= scores_.size()) scores_.resize(std::max(slot + 1, 2 * scores_.size()), 0.0);
       if (scores_[id] == 0) touched.push_back(id);
@@ -189,15 +213,11 @@ double AppearanceIndex::Score(const Appearance& query, LocationId id) const {
   const auto described = appearances_.find(id);
   if (query.empty() || described == appearances_.end()) return 0;
   const Appearance& location = described->second;
-  const size_t outside = Searched(id) ? 0 : 1;  // counted as one more searched location
-  const double searched = static_cast<double>(searched_.size() + outside);
-  double score = 0;  // as Best
-  auto entry = location.begin();
-  for (AppearanceEntry wanted : query) {  // both sorted: one merge pass
-    entry = std::lower_bound(entry, location.end(), wanted);
-    if (entry == location.end()) break;
-    if (*entry != wanted) continue;
-    score += EntryWeight(postings_[wanted].size() + outside, searched);
+  // Not searched: counted as one more searched location, as Best would if it were.
+  const size_t outside = Searched(id) ? 0 : 1;
+  double score = 0;
+  for (const auto& [entry, idf] : SummedEntries(query, outside)) {
+    if (std::binary_search(location.begin(), location.end(), entry)) score += idf;
   }
   return Normalized(score, query.size(), location.size());
 }

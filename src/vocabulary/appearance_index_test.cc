@@ -103,6 +103,46 @@ TEST_F(AppearanceSearchTest, CommonEntriesAreIgnoredAndTiesGoToTheOldest) {
   EXPECT_EQ(index_.Best({3}).id, kNoLocation);  // 2 of the 3 searched hold it
 }
 
+// A bounded search (max_postings) sums the rarest entries first. Postings: entry 0 {A} (1),
+// 1 {A, B} (2), 2 {B, C} (2), 3 {C, D} (2). Query {0, 1, 2}, 5 postings in all, idf ln 4, ln 2
+// and ln 2, over sqrt(3 * 2) for A, B and C (descriptions of 2).
+TEST(AppearanceIndexTest, BoundedSearchSumsTheRarestEntriesFirst) {
+  const auto make = [](size_t max_postings) {
+    AppearanceIndex index(DescriptorKind::kFloat, 4, 4, DictionaryOptions{}, max_postings);
+    index.CollectWords({1, 2, 3, 4}, Rows({0, 1, 2, 3}));
+    const std::vector<Appearance> descriptions = {{0, 1}, {1, 2}, {2, 3}, {3}};
+    for (LocationId id = 1; id <= 4; ++id) {
+      index.Add(id, descriptions[id - 1]);
+      index.Enter(id);
+    }
+    return index;
+  };
+  const Appearance query = {0, 1, 2};
+  const double root6 = std::sqrt(6.0);
+  // 5 postings within 5 (and 0, no bound): every entry. A (ln 4 + ln 2), B (ln 2 + ln 2), C ln 2.
+  for (size_t bound : {size_t{0}, size_t{5}}) {
+    const AppearanceIndex all = make(bound);
+    EXPECT_DOUBLE_EQ(all.Score(query, 2), std::log(4.0) / root6) << bound;
+    EXPECT_DOUBLE_EQ(all.Score(query, 3), std::log(2.0) / root6) << bound;
+  }
+  // 3: entry 0 (1 posting), then entry 1 (3 in all; it ties with entry 2 at 2 holders and comes
+  // first); entry 2 would make 5. C shares nothing summed.
+  const AppearanceIndex three = make(3);
+  const double a = std::log(8.0) / root6, b = std::log(2.0) / root6;
+  EXPECT_DOUBLE_EQ(three.Score(query, 1), a);
+  EXPECT_DOUBLE_EQ(three.Score(query, 2), b);
+  EXPECT_EQ(three.Score(query, 3), 0);
+  const AppearanceMatch match = three.Best(query);
+  EXPECT_EQ(match.id, 1);
+  EXPECT_DOUBLE_EQ(match.score, a);
+  const double mean = (a + b) / 4;
+  EXPECT_NEAR(match.z, (a - mean) / std::sqrt((a * a + b * b) / 4 - mean * mean), 1e-12);
+  // 2: entry 0 alone; only A scores.
+  const AppearanceIndex two = make(2);
+  EXPECT_DOUBLE_EQ(two.Best(query).score, std::log(4.0) / root6);
+  EXPECT_EQ(two.Score(query, 2), 0);
+}
+
 TEST_F(AppearanceSearchTest, NothingToFindGivesNoLocation) {
   EXPECT_EQ(index_.Best({}).id, kNoLocation);
   AppearanceIndex empty = MakeIndex(4);
