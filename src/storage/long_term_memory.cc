@@ -32,6 +32,12 @@ size_t BytesOf(const Location& location) {
          location.images.size() * sizeof(ImageIndex);
 }
 
+// `links` (a location's, sorted) gains `target` unless it holds it already or it is `self`.
+void AddSortedLink(std::vector<LocationId>& links, LocationId target, LocationId self) {
+  const auto place = std::lower_bound(links.begin(), links.end(), target);
+  if (target != self && (place == links.end() || *place != target)) links.insert(place, target);
+}
+
 // The error is reported under the map's name: drop it from the message if it has it already.
 std::string WriteFailure(const std::string& path, const std::exception& error) {
   std::string what = error.what();
@@ -203,10 +209,7 @@ void LongTermMemory::RedirectLocation(LocationId absorbed, LocationId survivor,
     const auto link = std::lower_bound(links.begin(), links.end(), absorbed);
     if (link == links.end() || *link != absorbed) continue;
     links.erase(link);
-    const auto place = std::lower_bound(links.begin(), links.end(), survivor);
-    if (survivor != id && (place == links.end() || *place != survivor)) {
-      links.insert(place, survivor);
-    }
+    AddSortedLink(links, survivor, id);
   }
 }
 
@@ -219,10 +222,7 @@ void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) 
     std::lock_guard<std::mutex> lock(mutex_);
     target = Redirected(to);
   }
-  const auto place = std::lower_bound(links->second.begin(), links->second.end(), target);
-  if (target != from && (place == links->second.end() || *place != target)) {
-    links->second.insert(place, target);
-  }
+  AddSortedLink(links->second, target, from);
 }
 
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
