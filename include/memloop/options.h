@@ -177,6 +177,10 @@ struct FilterOptions {
   // 1: a hypothesis is accepted only when the image's own likelihood for it stands out (eq. 3
   // above 1), not on the prior alone (memloop); 0: the paper.
   int require_support = 1;
+  // A hypothesis is accepted only when the image shares at least this many words (eq. 1's
+  // N_pair) with L_i (memloop); 0: the paper. One or two shared words are chance collisions in a
+  // dictionary of 10^4-10^5 words, yet eq. 3 makes them "stand out" when every score is as low.
+  int min_shared_words = 3;
   // 1: after an image whose retrieval was deferred for T_time, a hypothesis is not accepted while
   // a location linked to it is in LTM and looks more like the image than it does (memloop); 0:
   // the paper.

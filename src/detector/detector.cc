@@ -347,7 +347,7 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
-    RequireSupport(likelihood, hypothesis);
+    RequireSupport(z_t, likelihood, hypothesis);
     CheckLtmNeighbours(appearance, hypothesis);
     Verify(z_t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
@@ -373,9 +373,14 @@ class Detector::Impl {
 
   // A loop closure says that the image matches L_i: with filter.require_support, the image's own
   // likelihood for L_i must stand out (eq. 3 above 1, s_i >= mu + sigma); a hypothesis carried
-  // only by the prior (just after leaving a revisited stretch) is not eligible.
-  void RequireSupport(const Likelihood& likelihood, Hypothesis& hypothesis) const {
-    if (!options_.filter.require_support || hypothesis.id == kNoLocation) return;
+  // only by the prior (just after leaving a revisited stretch) is not eligible. Standing out is
+  // relative, so filter.min_shared_words also asks for a few shared words (hypothesis.h).
+  void RequireSupport(const Signature& z_t, const Likelihood& likelihood,
+                      Hypothesis& hypothesis) const {
+    if (hypothesis.id == kNoLocation) return;
+    RequireSharedWords(z_t, memory_.at(hypothesis.id).signature, options_.filter.min_shared_words,
+                       hypothesis);
+    if (!options_.filter.require_support) return;
     const auto value = likelihood.values.find(hypothesis.id);
     if (value != likelihood.values.end() && value->second > 1.0) return;
     hypothesis.Refuse();

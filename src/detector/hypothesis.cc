@@ -27,6 +27,12 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
   return best;
 }
 
+void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,
+                        Hypothesis& hypothesis) {
+  if (min_words <= 0 || hypothesis.id == kNoLocation) return;
+  if (CountWordPairs(z_t.Histogram(), z_i.Histogram()) < min_words) hypothesis.Refuse();
+}
+
 void CheckLtmNeighbours(const std::vector<LocationId>& links,
                         const std::function<bool(LocationId)>& in_ltm,
                         const std::function<double(LocationId)>& looks_like_image,

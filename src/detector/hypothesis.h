@@ -6,6 +6,7 @@
 
 #include "detector/bayes_filter.h"
 #include "memloop/options.h"
+#include "vocabulary/signature.h"
 
 namespace memloop {
 
@@ -28,6 +29,13 @@ struct Hypothesis {
 // With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
 Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options);
+
+// filter.min_shared_words (memloop): L_i is refused when the image `z_t` shares fewer than
+// `min_words` words with it (eq. 1's N_pair, `z_i`). When an image matches almost nothing, mu and
+// sigma of eq. 3 are tiny and a location sharing two words "stands out" as much as a true match:
+// the support of eq. 3 is relative, this floor is absolute.
+void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,
+                        Hypothesis& hypothesis);
 
 // filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is
 // in LTM and looks more like the image than L_i does: the image may have been taken there, where

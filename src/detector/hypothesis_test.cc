@@ -74,6 +74,28 @@ TEST(HypothesisTest, EmptyWorkingMemoryHasNoHypothesis) {
   EXPECT_FALSE(hypothesis.accepted);
 }
 
+// z_t = {7, 7, 8, 9} and z_i = {7, 8, 8, 5}: word 7 makes min(2, 1) = 1 pair, word 8 min(1, 2) = 1,
+// 9 and 5 none: N_pair = 2.
+TEST(HypothesisTest, TooFewSharedWordsRefuse) {
+  Signature z_t, z_i;
+  z_t.words = {7, 7, 8, 9};
+  z_i.words = {7, 8, 8, 5};
+  const auto accepted = [] {
+    Hypothesis hypothesis;
+    hypothesis.id = 2;
+    hypothesis.eligible = hypothesis.accepted = true;
+    return hypothesis;
+  };
+  Hypothesis hypothesis = accepted();
+  RequireSharedWords(z_t, z_i, 2, hypothesis);
+  EXPECT_TRUE(hypothesis.accepted);
+  RequireSharedWords(z_t, z_i, 0, hypothesis);  // off
+  EXPECT_TRUE(hypothesis.accepted);
+  RequireSharedWords(z_t, z_i, 3, hypothesis);
+  EXPECT_FALSE(hypothesis.accepted);
+  EXPECT_FALSE(hypothesis.eligible);  // at any T_loop
+}
+
 // L_i = 2 linked to 1 and 3; 3 is in LTM. Image scores: L_i 0.4, 1 0.9 (in WM: not counted).
 TEST(HypothesisTest, AnLtmNeighbourThatLooksMoreLikeTheImageRefuses) {
   const auto in_ltm = [](LocationId id) { return id == 3; };

@@ -143,6 +143,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("eq. 1 / III-C").Help("Score of L_t against each WM location: similarity (eq. 1, the paper) or tfidf (shared words weighted by log(N/n_w))"),
     Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Flag()
         .Symbol("eq. 3").Help("true: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (false = the paper)"),
+    Param("filter.min_shared_words", MEMLOOP_FIELD(filter.min_shared_words)).Unit("words").Range(0, 100000)
+        .Symbol("eq. 1").Help("accept only a hypothesis L_i with which the image shares at least this many words (N_pair): one or two are chance collisions (0 = the paper)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()
         .Help("true: after an image whose retrieval was deferred for T_time, no loop closure on L_i while a location linked to it is in LTM and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, lags behind the robot (false = the paper)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)

@@ -56,12 +56,11 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
       departures,
       (std::set<std::string>{
           "surf.upright", "memory.stm_size", "memory.protect_hypothesis", "filter.loop_threshold",
-          "filter.hypothesis_value", "filter.require_support", "filter.ltm_neighbour_check",
-          "memory.time_target", "memory.transfer_max_fraction", "sift.upright", "orb.upright",
-          "memory.appearance_retrieval", "memory.retrieval_within_time",
-          "memory.retrieval_read_ahead",
-          "memory.max_dictionary_words", "memory.retrieval_min_value",
-          "features.min_image_side"}));
+          "filter.hypothesis_value", "filter.require_support", "filter.min_shared_words",
+          "filter.ltm_neighbour_check", "memory.time_target", "memory.transfer_max_fraction",
+          "sift.upright", "orb.upright", "memory.appearance_retrieval",
+          "memory.retrieval_within_time", "memory.retrieval_read_ahead",
+          "memory.max_dictionary_words", "memory.retrieval_min_value", "features.min_image_side"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

@@ -22,6 +22,7 @@ Options Options::Paper2011() {
   options.filter.loop_threshold = 0.10;
   options.filter.likelihood = "similarity";
   options.filter.require_support = 0;
+  options.filter.min_shared_words = 0;
   options.filter.ltm_neighbour_check = 0;
   options.verification.min_inliers = 0;
   return options;
