@@ -13,6 +13,7 @@
 #include "detector/bayes_filter.h"
 #include "detector/likelihood.h"
 #include "detector/memory.h"
+#include "detector/neighbourhood_cache.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
@@ -188,7 +189,8 @@ BENCHMARK(BM_LikelihoodAndFilter)->Arg(100)->Arg(1000)->Arg(5000)->Unit(benchmar
 
 // The filter's neighbourhoods (range 4) of every WM location: a chain of N locations, one loop
 // closure every 50. Arg 1: N; Arg 2: 1 = all at once (Memory::WmNeighbourhoods), 0 = one search per
-// location (Memory::WmNeighbourhood, how they were computed before).
+// location (Memory::WmNeighbourhood, how they were computed before), 2 = kept from the image
+// before (NeighbourhoodCache) after one image's changes: a new location, one transferred.
 void BM_WmNeighbourhoods(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   DictionaryOptions dictionary_options;
@@ -202,8 +204,18 @@ void BM_WmNeighbourhoods(benchmark::State& state) {
     }
   }
   memory.MoveStmOverflowToWm(20);
+  NeighbourhoodCache cache;
+  cache.Update(memory, 4);
   for (auto _ : state) {
-    if (state.range(1) == 1) {
+    if (state.range(1) == 2) {
+      state.PauseTiming();
+      ids.push_back(memory.AddToStm(Signature(), n, ids.back()).id);
+      memory.MoveStmOverflowToWm(20);
+      std::vector<WordId> orphans;
+      memory.Release(*memory.working_memory().begin(), &orphans);  // the oldest
+      state.ResumeTiming();
+      benchmark::DoNotOptimize(cache.Update(memory, 4));
+    } else if (state.range(1) == 1) {
       benchmark::DoNotOptimize(memory.WmNeighbourhoods(4));
     } else {
       Neighbourhoods neighbourhoods;
@@ -216,8 +228,10 @@ void BM_WmNeighbourhoods(benchmark::State& state) {
 BENCHMARK(BM_WmNeighbourhoods)
     ->Args({500, 0})
     ->Args({500, 1})
+    ->Args({500, 2})
     ->Args({2000, 0})
     ->Args({2000, 1})
+    ->Args({2000, 2})
     ->Unit(benchmark::kMillisecond);
 
 // A Rehearsal merge's update of LTM's link graph (LongTermMemory::RedirectLocation), with N

@@ -13,6 +13,7 @@
 #include "detector/map_editor.h"
 #include "detector/map_parameters.h"
 #include "detector/memory.h"
+#include "detector/neighbourhood_cache.h"
 #include "detector/rehearsal.h"
 #include "detector/retrieval.h"
 #include "detector/stopwatch.h"
@@ -132,8 +133,13 @@ class Detector::Impl {
   long long images_processed() const { return counters_.images_processed; }
   void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
   std::vector<std::string> CheckConsistency() {
-    return memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches(),
-                                     appearance_.get());
+    std::vector<std::string> problems = memloop::CheckConsistency(
+        memory_, ltm_, filter_, editor_.past_matches(), appearance_.get());
+    const int range = options_.filter.neighbour_range;
+    if (wm_neighbourhoods_.Update(memory_, range) != memory_.WmNeighbourhoods(range)) {
+      problems.push_back("the filter's kept neighbourhoods differ from a search of the graph");
+    }
+    return problems;
   }
 
   // Stores STM and WM locations (and their words) in LTM so that the file holds the whole map,
@@ -165,8 +171,8 @@ class Detector::Impl {
     Rehearse(t, result);                                    // III-B, eq. 1
     memory_.MoveStmOverflowToWm(options_.memory.stm_size);  // STM -> WM
     const Signature& z_t = memory_.at(t).signature;
-    const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
-    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Likelihood likelihood = ComputeObservation(z_t, result);            // eq. 3, 4
+    const Neighbourhoods& neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
     const Hypothesis hypothesis =
         SelectLoopClosure(z_t, DescriptionOf(t), likelihood, neighbourhoods, result);  // III-D
     CloseLoop(t, hypothesis, neighbourhoods, result);                                  // III-D
@@ -185,9 +191,9 @@ class Detector::Impl {
     Stopwatch iteration;
     Result result = StartIteration(image_index);
     Appearance appearance;
-    const Signature z_t = MatchImage(gray, result, &appearance);             // III-A
-    const Likelihood likelihood = ComputeObservation(z_t, result);           // eq. 3, 4
-    const Neighbourhoods neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
+    const Signature z_t = MatchImage(gray, result, &appearance);              // III-A
+    const Likelihood likelihood = ComputeObservation(z_t, result);            // eq. 3, 4
+    const Neighbourhoods& neighbourhoods = UpdateFilter(likelihood, result);  // eq. 2
     const Hypothesis hypothesis =
         SelectLoopClosure(z_t, &appearance, likelihood, neighbourhoods, result);  // III-D
     RetrieveFromLtm(iteration, hypothesis, &appearance, result);                  // III-E
@@ -334,9 +340,11 @@ class Detector::Impl {
                              options_.filter.min_sigma_ratio);
   }
 
-  Neighbourhoods UpdateFilter(const Likelihood& likelihood, Result& result) {
+  // The neighbourhoods stay valid until the next image's UpdateFilter.
+  const Neighbourhoods& UpdateFilter(const Likelihood& likelihood, Result& result) {
     ScopedTimer timer(&result.times.filter_ms);
-    const Neighbourhoods neighbourhoods = memory_.WmNeighbourhoods(options_.filter.neighbour_range);
+    const Neighbourhoods& neighbourhoods =
+        wm_neighbourhoods_.Update(memory_, options_.filter.neighbour_range);
     filter_.Update(likelihood, neighbourhoods);
     return neighbourhoods;
   }
@@ -549,6 +557,7 @@ class Detector::Impl {
   StepCost transfer_cost_;          // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
+  NeighbourhoodCache wm_neighbourhoods_;  // the filter's, of memory_
   BayesFilter filter_;
   LongTermMemory ltm_;
   std::unique_ptr<LtmReadAhead> read_ahead_;     // null with T_time off

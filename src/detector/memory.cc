@@ -30,12 +30,15 @@ Location& Memory::AddToStm(Signature signature, ImageIndex image, LocationId pre
   ReferenceWords(location);
   stm_.push_back(location.id);
   changed_.insert(location.id);
+  TouchGraph(location.id);
+  TouchGraph(previous);
   return locations_[location.id] = std::move(location);
 }
 
 void Memory::MoveStmOverflowToWm(int stm_size) {
   while (static_cast<int>(stm_.size()) > stm_size) {
     working_memory_.insert(stm_.front());
+    TouchGraph(stm_.front());
     stm_.pop_front();
   }
 }
@@ -62,6 +65,8 @@ std::vector<LinkToLtm> Memory::AddLinksOf(LocationId target, LocationId source,
       if (id == target) continue;
       auto& links = loop_closure ? to.loop_closures : to.neighbours;
       if (!links.insert(id).second) continue;
+      TouchGraph(target);
+      TouchGraph(id);
       if (Contains(id)) {
         (loop_closure ? at(id).loop_closures : at(id).neighbours).insert(target);
       } else {
@@ -72,6 +77,8 @@ std::vector<LinkToLtm> Memory::AddLinksOf(LocationId target, LocationId source,
   if (link_together) {
     to.loop_closures.insert(source);
     at(source).loop_closures.insert(target);
+    TouchGraph(target);
+    TouchGraph(source);
   }
   return to_ltm;
 }
@@ -83,6 +90,8 @@ std::vector<WordId> Memory::Absorb(LocationId survivor, LocationId absorbed) {
   kept.images.insert(kept.images.end(), gone.images.begin(), gone.images.end());
   kept.neighbours.erase(absorbed);
   kept.loop_closures.erase(absorbed);
+  TouchGraph(survivor);
+  TouchGraph(absorbed);
   std::vector<WordId> orphans = UnreferenceWords(gone);
   Unlink(absorbed);
   stm_.erase(std::remove(stm_.begin(), stm_.end(), absorbed), stm_.end());
@@ -93,6 +102,8 @@ std::vector<WordId> Memory::Absorb(LocationId survivor, LocationId absorbed) {
 
 Location Memory::Release(LocationId id, std::vector<WordId>* orphan_words) {
   assert(InWorkingMemory(id));
+  TouchGraph(id);
+  TouchLinksOf(locations_.at(id));  // their links to it now lead to LTM
   Location location = std::move(at(id));
   *orphan_words = UnreferenceWords(location);
   working_memory_.erase(id);
@@ -112,6 +123,8 @@ void Memory::Restore(Location location) {
   }
   working_memory_.insert(id);
   changed_.insert(id);
+  TouchGraph(id);
+  TouchLinksOf(location);
   locations_[id] = std::move(location);
 }
 
@@ -140,6 +153,8 @@ void Memory::Reload(std::map<LocationId, Location> locations, const std::deque<L
     if (std::find(stm_.begin(), stm_.end(), id) == stm_.end()) working_memory_.insert(id);
   }
   next_id_ = next_id;
+  graph_touched_.clear();
+  graph_all_touched_ = true;
 }
 
 std::vector<LocationId> Memory::LinksOf(LocationId id) const { return at(id).Links(); }
@@ -241,9 +256,35 @@ std::vector<WordId> Memory::UnreferenceWords(const Location& location) {
 void Memory::Unlink(LocationId id) {
   for (LocationId link : at(id).Links()) {
     if (!Contains(link)) continue;
+    TouchGraph(link);
     at(link).neighbours.erase(id);
     at(link).loop_closures.erase(id);
   }
+}
+
+void Memory::TouchGraph(LocationId id) {
+  if (id == kNoLocation || graph_all_touched_) return;
+  graph_touched_.insert(id);
+  if (graph_touched_.size() > locations_.size() + 64) {  // nobody reads them: stop listing
+    graph_touched_.clear();
+    graph_all_touched_ = true;
+  }
+}
+
+void Memory::TouchLinksOf(const Location& location) {
+  for (const auto* links : {&location.neighbours, &location.loop_closures}) {
+    for (LocationId link : *links) {
+      if (Contains(link)) TouchGraph(link);
+    }
+  }
+}
+
+Memory::GraphChanges Memory::TakeGraphChanges() {
+  GraphChanges changes;
+  changes.touched.swap(graph_touched_);
+  changes.all = graph_all_touched_;
+  graph_all_touched_ = false;
+  return changes;
 }
 
 }  // namespace memloop

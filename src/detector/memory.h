@@ -81,6 +81,14 @@ class Memory {
   // Locations given out mutably, added or restored since ClearChanged() (some may be gone since);
   // ClearChanged() also clears the dictionary's changed LTM marks.
   const std::set<LocationId>& changed() const { return changed_; }
+  // Locations whose links or membership changed since the last call (a removed location and the
+  // locations it was linked to included); `all` when they are too many to list (a reload).
+  // NeighbourhoodCache is their one reader.
+  struct GraphChanges {
+    std::set<LocationId> touched;
+    bool all = true;
+  };
+  GraphChanges TakeGraphChanges();
   void ClearChanged() {
     changed_.clear();
     dictionary_.ClearChangedMarks();
@@ -98,6 +106,8 @@ class Memory {
   void ReferenceWords(const Location& location);
   std::vector<WordId> UnreferenceWords(const Location& location);
   void Unlink(LocationId id);
+  void TouchGraph(LocationId id);
+  void TouchLinksOf(const Location& location);
 
   Dictionary dictionary_;
   std::map<LocationId, Location> locations_;
@@ -105,6 +115,8 @@ class Memory {
   IdSet working_memory_;  // walked in id order at every image
   LocationId next_id_ = 1;
   std::set<LocationId> changed_;
+  std::set<LocationId> graph_touched_;
+  bool graph_all_touched_ = true;  // nothing was computed from the graph yet
 };
 
 }  // namespace memloop
