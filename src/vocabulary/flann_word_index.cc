@@ -89,7 +89,7 @@ class FlannWordIndex : public WordIndex {
     if (pending_) {
       ++pending_->age;
       if (!pending_->catching_up && CatchUpDue()) StartCatchUp();
-      if (pending_->catching_up && SwapDue()) FinishBuild();
+      if (pending_->catching_up && SwapDue() && !CatchUpAgain()) FinishBuild();
     } else if (changes_since_build_ >
                options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
       if (options_.rebuild_delay > 0 && points_.size() > 0) {
@@ -276,11 +276,14 @@ class FlannWordIndex : public WordIndex {
     int age = 0;                // Adds since
     std::vector<Element> buffer;
     std::future<Built> built;
-    // The catch-up (StartCatchUp): the points from the snapshot to catch_up_point, added to the
-    // new index in the background; their descriptors are in catch_up_buffer.
+    // The catch-up (StartCatchUp, CatchUpAgain): the points from the snapshot to catch_up_point,
+    // added to the new index in the background, in rounds; their descriptors are copied there
+    // into catch_up_buffers, one per round (a deque: a round's buffer does not move while the
+    // next ones are added).
     bool catching_up = false;
+    int rounds = 0;
     size_t catch_up_point = 0;
-    std::vector<Element> catch_up_buffer;
+    std::deque<std::vector<Element>> catch_up_buffers;
     std::future<Built> caught_up;
   };
 
@@ -314,21 +317,49 @@ class FlannWordIndex : public WordIndex {
   void StartCatchUp() {
     PendingBuild& pending = *pending_;
     pending.catching_up = true;
-    pending.catch_up_point = CatchUpPoint();
-    const size_t count = pending.catch_up_point - pending.snapshot_point;
-    pending.catch_up_buffer.resize(count * dim());
-    for (size_t i = 0; i < count; ++i) {
-      std::copy_n(index_->getPoint(pending.snapshot_point + i), dim(),
-                  pending.catch_up_buffer.data() + i * dim());
+    pending.catch_up_point = pending.snapshot_point;
+    CatchUpTo(CatchUpPoint(), std::move(pending.built));
+  }
+
+  // T_time on: when a round ends, the points that came meanwhile are caught up in another round,
+  // until few enough came for the swap to add them itself (kSwapMaxPoints) or kMaxRounds. Each
+  // round is shorter than the one before: the background adds points faster than images bring
+  // them. The index is the same as with one round (the same points, added in the same order).
+  bool CatchUpAgain() {
+    PendingBuild& pending = *pending_;
+    if (!options_.rebuild_swap_when_ready || pending.rounds >= kMaxRounds ||
+        next_point_ - pending.catch_up_point <= kSwapMaxPoints) {
+      return false;
     }
-    const flann::Matrix<Element> points(pending.catch_up_buffer.data(), count, dim());
-    pending.caught_up =
-        std::async(std::launch::async, [points, built = std::move(pending.built)]() mutable {
-          LowerThisThreadsPriority();
-          Built index = built.get();
-          if (points.rows > 0) index.index->addPoints(points, /*rebuild_threshold=*/1.0f);
-          return index;
-        });
+    CatchUpTo(next_point_, std::move(pending.caught_up));
+    return true;
+  }
+
+  // Adds the points from catch_up_point to `end` to the index `built` will give, in the
+  // background. Their rows are where Add put them (buffers_, freed only by the swap that ends
+  // this build); the copy is made there too, off the iteration (tens of megabytes at the first
+  // round: it took up to 27 ms here).
+  void CatchUpTo(size_t end, std::future<Built> built) {
+    PendingBuild& pending = *pending_;
+    std::vector<const Element*> rows;
+    rows.reserve(end - pending.catch_up_point);
+    for (size_t point = pending.catch_up_point; point < end; ++point) {
+      rows.push_back(index_->getPoint(point));
+    }
+    pending.catch_up_point = end;
+    ++pending.rounds;
+    std::vector<Element>* buffer = &pending.catch_up_buffers.emplace_back();
+    pending.caught_up = std::async(std::launch::async, [buffer, rows = std::move(rows), dim = dim(),
+                                                        built = std::move(built)]() mutable {
+      LowerThisThreadsPriority();
+      Built index = built.get();
+      *buffer = CopyRows(rows, dim);
+      if (!rows.empty()) {
+        index.index->addPoints(flann::Matrix<Element>(buffer->data(), rows.size(), dim),
+                               /*rebuild_threshold=*/1.0f);
+      }
+      return index;
+    });
   }
 
   // The live words in id order (so that the same history gives the same index) and where their
@@ -423,7 +454,7 @@ class FlannWordIndex : public WordIndex {
     Built built = pending->caught_up.get();  // waits when not ready yet
     const size_t snapshot_size = pending->words.size();
     const size_t snapshot_point = pending->snapshot_point;
-    const size_t caught_up = pending->catch_up_point - snapshot_point;
+    const size_t caught_up = pending->catch_up_point - snapshot_point;  // over all rounds
     const size_t later = next_point_ - pending->catch_up_point;
     std::vector<Element> later_buffer(later * dim());
     for (size_t i = 0; i < later; ++i) {
@@ -467,9 +498,13 @@ class FlannWordIndex : public WordIndex {
     std::deque<std::vector<Element>> buffers;
     buffers.push_back(std::move(pending->buffer));
     batch_starts_ = {0};
-    if (caught_up > 0) {
-      buffers.push_back(std::move(pending->catch_up_buffer));
-      batch_starts_.push_back(snapshot_size);
+    size_t batch_start = snapshot_size;
+    for (std::vector<Element>& round : pending->catch_up_buffers) {
+      if (round.empty()) continue;
+      const size_t points = round.size() / dim();
+      buffers.push_back(std::move(round));
+      batch_starts_.push_back(batch_start);
+      batch_start += points;
     }
     if (later > 0) {
       buffers.push_back(std::move(later_buffer));
@@ -533,6 +568,10 @@ class FlannWordIndex : public WordIndex {
   // Queries per chunk of a search: ~0.5 ms of work at a few hundred thousand words, large enough
   // that taking a chunk costs nothing beside it.
   static constexpr size_t kSearchChunk = 16;
+  // The most points the swap adds itself (about 2 ms; 10,000-20,000 took 45-62 ms), and the most
+  // catch-up rounds before it adds what is left anyway.
+  static constexpr size_t kSwapMaxPoints = 1000;
+  static constexpr int kMaxRounds = 8;
   mutable WorkTeam search_team_;                // Search is const: it only reads the index
   std::unique_ptr<PendingBuild> pending_;       // its destruction waits for the build thread
   std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending

@@ -155,6 +155,40 @@ TEST(WordIndexTest, BackgroundRebuildCanBeUsedAsSoonAsItIsReady) {
   EXPECT_EQ(index->size(), 401u + (next - 1000));
 }
 
+// With T_time on, points that come while the new forest catches up are caught up in more rounds
+// (however many the threads' speed makes): every live word is still found, at distance 0, and no
+// removed one.
+TEST(WordIndexTest, CatchUpInRoundsKeepsEveryWordAndNoRemovedOne) {
+  DictionaryOptions options;
+  options.rebuild_delay = 1000000;
+  options.rebuild_swap_when_ready = true;
+  auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
+  cv::Mat points = RandomPoints(3000, 8, 11);
+  index->Add(Ids(1, 3000), points);
+  WordId next = 3001;
+  WordId oldest = 1;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (index->build_count() < 2 && std::chrono::steady_clock::now() < deadline) {
+    const cv::Mat batch = RandomPoints(1500, 8, next);  // > the 1,000 a swap adds itself
+    index->Add(Ids(next, 1500), batch);
+    points.push_back(batch);
+    next += 1500;
+    for (int i = 0; i < 300; ++i) index->Remove(oldest++);
+  }
+  ASSERT_EQ(index->build_count(), 2);
+  EXPECT_EQ(index->size(), static_cast<size_t>(next - oldest));
+  const auto found = index->Search(points);
+  for (WordId id = 1; id < next; ++id) {
+    const auto& nearest = found[id - 1][0];
+    if (id < oldest) {
+      EXPECT_NE(nearest.word, id) << "removed word " << id << " was found";
+    } else {
+      EXPECT_EQ(nearest.word, id);
+      EXPECT_EQ(nearest.distance, 0.0f);
+    }
+  }
+}
+
 TEST(WordIndexTest, KdForestFindsItsOwnPointsAfterRebuildAndKeepsDescriptors) {
   const auto forest_owner = WordIndex::Create(DescriptorKind::kFloat, 8, DictionaryOptions());
   WordIndex& forest = *forest_owner;
