@@ -20,7 +20,10 @@ struct StageTimes {
   double retrieval_ms = 0;   // III-E
   double transfer_ms = 0;    // III-F
   double checkpoint_ms = 0;  // the resume checkpoint queued for the map file
-  double total_ms = 0;       // the whole iteration
+  // Of the iteration, the time spent waiting for the map file's writer (its queue full, or the
+  // previous checkpoint not committed), in whichever step it happened.
+  double ltm_wait_ms = 0;
+  double total_ms = 0;  // the whole iteration
 };
 
 struct Result {

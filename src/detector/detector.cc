@@ -210,6 +210,7 @@ class Detector::Impl {
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
+    ltm_.TakeWriterWaitMs();  // waits between images are not this iteration's
     return result;
   }
 
@@ -536,14 +537,14 @@ class Detector::Impl {
   }
 
   // `t` is kNoLocation when localizing: the image made no location.
-  void Summarize(LocationId t, const Signature& z_t, const Stopwatch& iteration,
-                 Result& result) const {
+  void Summarize(LocationId t, const Signature& z_t, const Stopwatch& iteration, Result& result) {
     result.location_id = t;
     result.word_count = z_t.size();
     result.stm_size = static_cast<int>(memory_.stm().size());
     result.wm_size = static_cast<int>(memory_.working_memory().size());
     result.ltm_size = static_cast<int>(ltm_.size());
     result.dictionary_size = static_cast<int>(memory_.dictionary().size());
+    result.times.ltm_wait_ms = ltm_.TakeWriterWaitMs();
     result.times.total_ms = iteration.ElapsedMs();
   }
 

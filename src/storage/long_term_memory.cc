@@ -1,6 +1,8 @@
 #include "storage/long_term_memory.h"
 
 #include <algorithm>
+#include <chrono>
+#include <utility>
 
 #include "memloop/errors.h"
 
@@ -115,7 +117,10 @@ template <typename Predicate>
 void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done) {
   ++waiting_;
   wake_writer_.notify_one();
+  const auto start = std::chrono::steady_clock::now();
   committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
+  writer_wait_ms_ +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   --waiting_;
   ThrowIfFailedLocked();
 }
@@ -394,6 +399,11 @@ void LongTermMemory::SetWriterHeld(bool held) {
     held_ = held;
   }
   wake_writer_.notify_one();
+}
+
+double LongTermMemory::TakeWriterWaitMs() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(writer_wait_ms_, 0.0);
 }
 
 size_t LongTermMemory::pending_bytes() const {

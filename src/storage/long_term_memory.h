@@ -107,6 +107,9 @@ class LongTermMemory {
   // For tests: while held, the writer commits nothing unless someone waits for it (a full queue,
   // Flush, destruction). Reads must give the same answers either way.
   void SetWriterHeld(bool held);
+  // Milliseconds callers waited for the writer (the queue full, or a checkpoint waiting for the
+  // previous one) since the last call: part of the caller's time that the map's disk sets.
+  double TakeWriterWaitMs();
   size_t pending_bytes() const;
   const std::string& path() const { return path_; }
 
@@ -190,7 +193,8 @@ class LongTermMemory {
   bool direct_ = false;       // WriteDirectly(): no writer, reader_ writes
   bool direct_open_ = false;  // a transaction of reader_ is open
   size_t pending_bytes_ = 0;
-  int waiting_ = 0;  // threads waiting for the writer: a held writer then goes on
+  int waiting_ = 0;            // threads waiting for the writer: a held writer then goes on
+  double writer_wait_ms_ = 0;  // TakeWriterWaitMs
   bool held_ = false;
   long long next_sequence_ = 1;
   long long committed_sequence_ = 0;

@@ -214,6 +214,18 @@ TEST(LongTermMemoryTest, QueueIsBoundedEvenWhenTheWriterIsHeld) {
   EXPECT_LE(most, options.max_pending_bytes);
   EXPECT_GT(most, options.max_pending_bytes / 2);  // it did fill up before committing
   EXPECT_EQ(ltm.Peek(300)->signature.words.size(), 50u);
+  EXPECT_GT(ltm.TakeWriterWaitMs(), 0.0);  // the stores waited for commits
+  EXPECT_EQ(ltm.TakeWriterWaitMs(), 0.0);  // taken
+}
+
+// With room in the queue nothing waits, however far behind the writer is.
+TEST(LongTermMemoryTest, NoWaitForTheWriterWhileTheQueueHasRoom) {
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, LtmOptions());
+  ltm.SetWriterHeld(true);
+  for (int id = 1; id <= 300; ++id) ltm.Store(MakeLocation(id, std::vector<WordId>(50, id)));
+  EXPECT_EQ(ltm.TakeWriterWaitMs(), 0.0);
+  ltm.SetWriterHeld(false);
 }
 
 // A full disk (emulated with SQLite's page limit) stops the run at the next call, not at Close.
