@@ -117,10 +117,12 @@ template <typename Predicate>
 void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Predicate done) {
   ++waiting_;
   wake_writer_.notify_one();
-  const auto start = std::chrono::steady_clock::now();
-  committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
-  writer_wait_ms_ +=
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!done() && writer_failure_.empty()) {  // counted only when there is something to wait for
+    const auto start = std::chrono::steady_clock::now();
+    committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
+    writer_wait_ms_ +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
   --waiting_;
   ThrowIfFailedLocked();
 }
