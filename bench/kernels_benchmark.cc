@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -18,6 +19,7 @@
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "storage/long_term_memory.h"
+#include "vocabulary/appearance_index.h"
 #include "vocabulary/dictionary.h"
 
 namespace memloop {
@@ -104,6 +106,34 @@ void BM_DictionaryMatch(benchmark::State& state) {
 }
 BENCHMARK(BM_DictionaryMatch)
     ->ArgsProduct({{10000, 50000, 100000}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// Matching 400 SURF-sized (64-d) descriptors, one thread, against N live words of which a share
+// (arg 2, percent) were added after the last build and a like number removed since: how the search
+// grows with the dictionary (issue 9's 1,000-2,000 block has ~200,000 words, the end 400,000).
+void BM_DictionaryMatchGrowth(benchmark::State& state) {
+  constexpr int kDim = 64;
+  DictionaryOptions options;
+  options.search_threads = 1;
+  options.rebuild_fraction = 100;  // no rebuild: the removed points stay in the trees
+  Dictionary dictionary(DescriptorKind::kFloat, kDim, options);
+  const int live = static_cast<int>(state.range(0));
+  const int churn = live * static_cast<int>(state.range(1)) / 100;
+  std::vector<WordId> ids;
+  for (int i = 1; i <= live; ++i) ids.push_back(i);
+  dictionary.Add(ids, RandomDescriptors(live, 1, kDim));
+  if (churn > 0) {
+    std::vector<WordId> added;
+    for (int i = 1; i <= churn; ++i) added.push_back(live + i);
+    dictionary.Add(added, RandomDescriptors(churn, 5, kDim));
+    for (int i = 1; i <= churn; ++i) dictionary.Remove(i);
+  }
+  const cv::Mat queries = RandomDescriptors(400, 2, kDim);
+  for (auto _ : state) benchmark::DoNotOptimize(dictionary.Match(queries));
+}
+BENCHMARK(BM_DictionaryMatchGrowth)
+    ->ArgsProduct({{100000, 200000, 400000}, {0, 25}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
@@ -267,6 +297,43 @@ void BM_RedirectLocation(benchmark::State& state) {
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
 }
 BENCHMARK(BM_RedirectLocation)->Arg(1000)->Arg(50000)->Unit(benchmark::kMicrosecond);
+
+// Retrieval by appearance's search over N LTM locations: each described by 193 distinct entries
+// of the 8,192-entry vocabulary, drawn with a mild skew (log-normal weights, sigma 0.65) so that a
+// query walks ~7 postings per location, as on bench/scale.sh's map at 26,789 locations.
+void BM_AppearanceBest(benchmark::State& state) {
+  constexpr int kVocabulary = 8192;
+  constexpr int kEntries = 193;
+  AppearanceIndex index(DescriptorKind::kFloat, 64, kVocabulary, DictionaryOptions());
+  cv::RNG rng(11);
+  std::vector<double> cumulative(kVocabulary);
+  double total = 0;
+  for (int entry = 0; entry < kVocabulary; ++entry) {
+    total += std::exp(0.65 * rng.gaussian(1.0));
+    cumulative[entry] = total;
+  }
+  const auto describe = [&] {
+    Appearance appearance;
+    while (static_cast<int>(appearance.size()) < kEntries) {
+      const double at = rng.uniform(0.0, total);
+      const auto entry =
+          std::lower_bound(cumulative.begin(), cumulative.end(), at) - cumulative.begin();
+      appearance.push_back(static_cast<AppearanceEntry>(entry));
+      std::sort(appearance.begin(), appearance.end());
+      appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
+    }
+    return appearance;
+  };
+  for (LocationId id = 1; id <= state.range(0); ++id) {
+    index.Add(id, describe());
+    index.Enter(id);
+  }
+  std::vector<Appearance> queries;
+  for (int i = 0; i < 16; ++i) queries.push_back(describe());
+  size_t count = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(index.Best(queries[count++ % queries.size()]));
+}
+BENCHMARK(BM_AppearanceBest)->Arg(25000)->Arg(50000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace memloop

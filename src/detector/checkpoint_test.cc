@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include "memloop/errors.h"
@@ -108,6 +109,68 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   memory_.Release(1, &orphans);
   const CheckpointData removed = Next();
   EXPECT_EQ(removed.removed_locations, (std::vector<LocationId>{1}));
+}
+
+// The checkpoint looks only at the locations Memory lists as changed. After every one of 300
+// random changes (new locations, weights, links, merges, transfers, retrievals), the file's
+// locations, each checkpoint applied in turn, must be memory's, each encoded as it is now.
+TEST_F(CheckpointWriterTest, FileHoldsExactlyMemorysLocationsAfterRandomChanges) {
+  std::map<LocationId, std::vector<unsigned char>> file;
+  const auto apply = [&](const CheckpointData& checkpoint) {
+    if (checkpoint.full) file.clear();
+    for (const auto& [id, bytes] : checkpoint.locations) file[id] = bytes;
+    for (LocationId id : checkpoint.removed_locations) ASSERT_EQ(file.erase(id), 1u) << id;
+  };
+  std::map<LocationId, Location> ltm;
+  cv::RNG rng(5);
+  LocationId previous = kNoLocation;
+  WordId next_word = 1;
+  for (int step = 0; step < 300; ++step) {
+    const std::vector<LocationId> wm(memory_.working_memory().begin(),
+                                     memory_.working_memory().end());
+    const auto any_wm = [&] { return wm[rng.uniform(0, static_cast<int>(wm.size()))]; };
+    switch (wm.size() < 3 ? 0 : rng.uniform(0, 6)) {
+      case 0: {  // a new location, its own word
+        testing::AddWords(memory_.dictionary(), {next_word});
+        previous = memory_.AddToStm(testing::MakeSignature({next_word++}), step, previous).id;
+        memory_.MoveStmOverflowToWm(2);
+        break;
+      }
+      case 1:
+        memory_.at(any_wm()).weight += 1;
+        break;
+      case 2: {
+        const LocationId a = any_wm(), b = any_wm();
+        if (a != b) memory_.AddLinksOf(a, b, /*link_together=*/true);
+        break;
+      }
+      case 3: {
+        const LocationId a = any_wm(), b = any_wm();
+        if (a != b) memory_.Absorb(a, b);
+        break;
+      }
+      case 4: {
+        const LocationId id = any_wm();
+        std::vector<WordId> orphans;
+        ltm[id] = memory_.Release(id, &orphans);
+        break;
+      }
+      case 5:
+        if (!ltm.empty()) {
+          memory_.Restore(ltm.begin()->second);
+          ltm.erase(ltm.begin());
+        }
+        break;
+    }
+    if (step % 3 == 0) {  // not at every step: changes pile up between checkpoints too
+      apply(Next());
+      memory_.ClearChanged();
+      std::map<LocationId, std::vector<unsigned char>> expected;
+      for (const auto& [id, location] : memory_.locations())
+        expected[id] = EncodeLocation(location);
+      ASSERT_EQ(file, expected) << "after step " << step;
+    }
+  }
 }
 
 // LTM's marks on words go by chunks of 65,536 word ids, and a chunk is written again only when

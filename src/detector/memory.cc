@@ -97,6 +97,7 @@ std::vector<WordId> Memory::Absorb(LocationId survivor, LocationId absorbed) {
   stm_.erase(std::remove(stm_.begin(), stm_.end(), absorbed), stm_.end());
   working_memory_.erase(absorbed);
   locations_.erase(absorbed);
+  changed_.insert(absorbed);  // gone: the checkpoint removes it
   return orphans;
 }
 
@@ -108,6 +109,7 @@ Location Memory::Release(LocationId id, std::vector<WordId>* orphan_words) {
   *orphan_words = UnreferenceWords(location);
   working_memory_.erase(id);
   locations_.erase(id);
+  changed_.insert(id);  // gone: the checkpoint removes it
   return location;
 }
 

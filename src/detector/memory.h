@@ -78,8 +78,9 @@ class Memory {
               LocationId next_id);
   LocationId next_id() const { return next_id_; }
 
-  // Locations given out mutably, added or restored since ClearChanged() (some may be gone since);
-  // ClearChanged() also clears the dictionary's changed LTM marks.
+  // Locations given out mutably, added, restored or removed (transferred, absorbed) since
+  // ClearChanged(): the checkpoint looks at these alone. ClearChanged() also clears the
+  // dictionary's changed LTM marks.
   const std::set<LocationId>& changed() const { return changed_; }
   // Locations whose links or membership changed since the last call (a removed location and the
   // locations it was linked to included); `all` when they are too many to list (a reload).

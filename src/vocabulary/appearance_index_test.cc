@@ -150,6 +150,51 @@ TEST_F(AppearanceSearchTest, NothingToFindGivesNoLocation) {
   EXPECT_EQ(empty.Best({0}).z, 0);
 }
 
+// Best sums the postings one of two ways, by how many there are against the locations (few: the
+// touched ones noted, many: the score array walked); either must give what scoring every searched
+// location one by one gives. 2,000 locations of 20 entries out of 512: one entry's postings
+// (~80) are few, a 40-entry query's (~3,000) many.
+TEST(AppearanceIndexTest, BestIsTheBestOfEveryLocationsScoreWhateverThePostingsCount) {
+  constexpr int kVocabulary = 512;
+  AppearanceIndex index = MakeIndex(kVocabulary);
+  cv::RNG rng(3);
+  const auto describe = [&](int entries) {
+    Appearance appearance;
+    for (int i = 0; i < entries; ++i) appearance.push_back(rng.uniform(0, kVocabulary));
+    std::sort(appearance.begin(), appearance.end());
+    appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
+    return appearance;
+  };
+  std::vector<LocationId> searched;
+  for (LocationId id = 1; id <= 2000; ++id) {
+    index.Add(id, describe(20));
+    if (id % 7 != 0) {  // some described but not searched: they must not answer
+      index.Enter(id);
+      searched.push_back(id);
+    }
+  }
+  for (int entries : {1, 2, 40, 200}) {
+    const Appearance query = describe(entries);
+    AppearanceMatch expected;
+    double sum = 0, sum_squares = 0;
+    for (LocationId id : searched) {
+      const double score = index.Score(query, id);
+      sum += score;
+      sum_squares += score * score;
+      if (score > expected.score) expected = {id, score, 0};
+    }
+    const double mean = sum / static_cast<double>(searched.size());
+    const double deviation =
+        std::sqrt(sum_squares / static_cast<double>(searched.size()) - mean * mean);
+    const AppearanceMatch match = index.Best(query);
+    ASSERT_GT(expected.score, 0) << entries;
+    EXPECT_EQ(match.id, expected.id) << entries;
+    EXPECT_DOUBLE_EQ(match.score, expected.score) << entries;
+    EXPECT_NEAR(match.z, (expected.score - mean) / deviation, 1e-9) << entries;
+    EXPECT_EQ(index.Best(query).id, match.id) << entries;  // the scores were reset
+  }
+}
+
 TEST(AppearanceIndexTest, RefusesWhatADamagedMapWouldGive) {
   AppearanceIndex index = MakeIndex(4);
   EXPECT_THROW(index.Add(1, {4}), Error);  // entry out of the vocabulary
