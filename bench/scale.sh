@@ -30,7 +30,8 @@ echo "sequence: memloop demo ${sequence[*]}"
 [ -n "${SETS:-}" ] && echo "every run: --set $SETS"
 
 # One run: memloop demo with the given --set values; RSS sampled every second against the rows
-# written so far.
+# written so far, with the machine's steal time (/proc/stat, clock ticks: time a virtual machine's
+# host ran something else while this machine wanted to run).
 run() {  # name seconds(0 = no limit) sets...
   local name=$1 seconds=$2
   shift 2
@@ -48,7 +49,7 @@ run() {  # name seconds(0 = no limit) sets...
     child=$(pgrep -n -f "memloop demo .*$out/$name.db" || true)
     if [ -n "$child" ] && [ -r "/proc/$child/status" ] && [ -f "$out/$name.csv" ]; then
       echo "$(($(wc -l <"$out/$name.csv") - 1)) $(awk '/VmRSS/ {print $2}' "/proc/$child/status")" \
-        >>"$out/$name.rss" 2>/dev/null || true
+        "$(awk '/^cpu / {print $9}' /proc/stat)" >>"$out/$name.rss" 2>/dev/null || true
     fi
     sleep 1
   done

@@ -10,9 +10,23 @@ name, folder, time_limit = sys.argv[1], sys.argv[2], float(sys.argv[3])
 rows = list(csv.DictReader(open(os.path.join(folder, name + ".csv"))))
 times = [float(r["iteration_ms"]) for r in rows]
 rss = {}  # rows written -> RSS in MB
+steal = []  # (rows written, the machine's steal time so far in ms), when sampled
+tick_ms = 1000 / os.sysconf("SC_CLK_TCK")
 for line in open(os.path.join(folder, name + ".rss")):
-    written, kb = line.split()
-    rss[int(written)] = int(kb) / 1024
+    fields = line.split()
+    if len(fields) < 2:
+        continue
+    rss[int(fields[0])] = int(fields[1]) / 1024
+    if len(fields) > 2:
+        steal.append((int(fields[0]), int(fields[2]) * tick_ms))
+
+
+def steal_around(row):
+    """Steal time (ms) of the sampling second in which row `row` (0-based) was written."""
+    for (written0, steal0), (written1, steal1) in zip(steal, steal[1:]):
+        if written0 <= row < written1:
+            return steal1 - steal0
+    return float("nan")
 
 print(f"\n### {name}\n")
 print("| images | median ms | max ms | WM | dictionary | RSS MB |")
@@ -68,6 +82,19 @@ if time_limit > 0 and name == "time":
     over = sum(t > time_limit for t in times)
     print(f"T_time {time_limit:g} ms: {over} iterations over ({100 * over / len(times):.2f}%), "
           f"max / T_time {max(times) / time_limit:.2f}")
+    # What the slowest ones were: the thread running (cpu_ms near the time) or not (waiting, or
+    # descheduled: the host's steal time in that second tells the host).
+    slowest = sorted(range(len(rows)), key=lambda i: -times[i])[:max(over, 5)]
+    print("\n| image | ms | cpu ms | LTM wait ms | slowest step | host steal in its second (ms) |")
+    print("| ---: | ---: | ---: | ---: | --- | ---: |")
+    steps = ["signature", "rehearsal", "likelihood", "filter", "selection", "retrieval",
+             "transfer", "checkpoint"]
+    for i in sorted(slowest):
+        row = rows[i]
+        step = max(steps, key=lambda s: float(row[s + "_ms"]))
+        cpu = row.get("cpu_ms") or "nan"
+        print(f"| {i} | {times[i]:.1f} | {float(cpu):.1f} | {float(row.get('ltm_wait_ms') or 'nan'):.1f} "
+              f"| {step} {float(row[step + '_ms']):.1f} | {steal_around(i):.0f} |")
 print(f"peak RSS {running_peak:.0f} MB while processing, {peak_mb:.0f} MB with the close; RSS "
       f"growth over the last {tail} images {rss_growth:.1f}% ({rss_start:.0f} -> {rss_end:.0f} MB); "
       f"map file {db / 1e6:.0f} MB")

@@ -211,6 +211,7 @@ class Detector::Impl {
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
     ltm_.TakeWriterWaitMs();  // waits between images are not this iteration's
+    iteration_cpu_start_ms_ = ThreadCpuMs();
     return result;
   }
 
@@ -545,6 +546,7 @@ class Detector::Impl {
     result.ltm_size = static_cast<int>(ltm_.size());
     result.dictionary_size = static_cast<int>(memory_.dictionary().size());
     result.times.ltm_wait_ms = ltm_.TakeWriterWaitMs();
+    result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;
     result.times.total_ms = iteration.ElapsedMs();
   }
 
@@ -552,10 +554,11 @@ class Detector::Impl {
   bool localizing_;                  // memory.localization: the map is read, never changed
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   int skipped_checkpoints_ = 0;
-  double last_checkpoint_ms_ = 0;   // counted in the next iteration's time check
-  bool retrieval_lagging_ = false;  // a retrieval was deferred in the last iteration
-  StepCost retrieval_cost_;         // one retrieval's expected time (T_time on)
-  StepCost transfer_cost_;          // one transfer's
+  double iteration_cpu_start_ms_ = 0;  // ThreadCpuMs() at the start of the iteration
+  double last_checkpoint_ms_ = 0;      // counted in the next iteration's time check
+  bool retrieval_lagging_ = false;     // a retrieval was deferred in the last iteration
+  StepCost retrieval_cost_;            // one retrieval's expected time (T_time on)
+  StepCost transfer_cost_;             // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   NeighbourhoodCache wm_neighbourhoods_;  // the filter's, of memory_

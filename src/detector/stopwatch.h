@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace memloop {
 
@@ -15,6 +16,15 @@ class Stopwatch {
   using Clock = std::chrono::steady_clock;
   Clock::time_point start_ = Clock::now();
 };
+
+// CPU milliseconds the calling thread has run (CLOCK_THREAD_CPUTIME_ID). Over an iteration, wall
+// time minus this is time the thread did not run: waiting (for the search's other thread, the
+// disk, the map's writer) or descheduled by the OS or, on a virtual machine, by the host.
+inline double ThreadCpuMs() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
+}
 
 // Adds the lifetime of the scope to `*total_ms`.
 class ScopedTimer {

@@ -93,6 +93,8 @@ def test_grey_images_and_results(tmp_path):
     result = detector.process(cv2.GaussianBlur(image, (5, 5), 1.5), 0)
     assert result.location_id == 1 and not result.has_loop_closure
     assert result.feature_count > 0 and result.times.total_ms > 0
+    # The detector's thread ran for part of the iteration's wall time, never longer.
+    assert 0 < result.times.cpu_ms <= result.times.total_ms + 1
     # Nothing in LTM yet: nothing retrieved, deferred or matched by appearance.
     assert result.retrieved_ids == [] and result.retrievals_deferred == 0
     assert result.retrievals_unread == 0
