@@ -181,9 +181,8 @@ struct FilterOptions {
   // N_pair) with L_i (memloop); 0: the paper. One or two shared words are chance collisions in a
   // dictionary of 10^4-10^5 words, yet eq. 3 makes them "stand out" when every score is as low.
   int min_shared_words = 3;
-  // 1: after an image whose retrieval was deferred for T_time, a hypothesis is not accepted while
-  // a location linked to it is in LTM and looks more like the image than it does (memloop); 0:
-  // the paper.
+  // 1: a hypothesis is not accepted while a location linked to it is in LTM (deferred for T_time,
+  // or transferred) and looks more like the image than it does (memloop); 0: the paper.
   int ltm_neighbour_check = 1;
 };
 

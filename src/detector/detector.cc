@@ -396,12 +396,13 @@ class Detector::Impl {
     hypothesis.Refuse();
   }
 
-  // filter.ltm_neighbour_check (hypothesis.h), while retrieval lags (a retrieval was deferred
-  // for T_time the image before): the three false positives of the 50,000-image run under T_time
-  // were hypotheses one step behind the robot, the step left in LTM by deferrals. Without
-  // deferral no such false positive was seen, and the check cost loop closures under WM budgets.
+  // filter.ltm_neighbour_check (hypothesis.h), at every image: the filter weighs WM alone, and a
+  // location linked to L_i that left for LTM (deferred for T_time, or transferred under a small
+  // WM) may be where the image was taken. The three false positives of a 50,000-image run under
+  // T_time, and the five of tum_fr1_rpy (ORB, SIFT) at a quarter of the unbounded WM, were such
+  // hypotheses (docs/design.md, "LTM-neighbour check").
   void CheckLtmNeighbours(const Appearance* appearance, Hypothesis& hypothesis) const {
-    if (!options_.filter.ltm_neighbour_check || !retrieval_lagging_) return;
+    if (!options_.filter.ltm_neighbour_check) return;
     if (hypothesis.id == kNoLocation) return;
     std::function<double(LocationId)> looks_like_image;
     if (appearance_ && appearance != nullptr) {
@@ -474,7 +475,6 @@ class Detector::Impl {
       }
     }
     if (result.retrievals_deferred > 0) retrieval_cost_.Deferred();
-    retrieval_lagging_ = result.retrievals_deferred > 0;
     for (LocationId id : retrieved) {
       filter_.Add(id);  // a new state, probability 0
       if (appearance_) appearance_->Leave(id);
@@ -556,7 +556,6 @@ class Detector::Impl {
   int skipped_checkpoints_ = 0;
   double iteration_cpu_start_ms_ = 0;  // ThreadCpuMs() at the start of the iteration
   double last_checkpoint_ms_ = 0;      // counted in the next iteration's time check
-  bool retrieval_lagging_ = false;     // a retrieval was deferred in the last iteration
   StepCost retrieval_cost_;            // one retrieval's expected time (T_time on)
   StepCost transfer_cost_;             // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;

@@ -39,9 +39,9 @@ void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_word
 
 // filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is
 // in LTM and looks more like the image than L_i does: the image may have been taken there, where
-// the filter could not look (its retrieval was deferred, or comes after this selection), so the
-// hypothesis lags behind the robot. `looks_like_image` scores a location against the image
-// (retrieval by appearance's descriptions); without it, any linked LTM location refuses.
+// the filter could not look (it was transferred, its retrieval was deferred, or comes after this
+// selection), so the hypothesis lags behind the robot. `looks_like_image` scores a location against
+// the image (retrieval by appearance's descriptions); without it, any linked LTM location refuses.
 void CheckLtmNeighbours(const std::vector<LocationId>& links,
                         const std::function<bool(LocationId)>& in_ltm,
                         const std::function<double(LocationId)>& looks_like_image,

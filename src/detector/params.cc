@@ -146,7 +146,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("filter.min_shared_words", MEMLOOP_FIELD(filter.min_shared_words)).Unit("words").Range(0, 100000)
         .Symbol("eq. 1").Help("accept only a hypothesis L_i with which the image shares at least this many words (N_pair): one or two are chance collisions (0 = the paper)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()
-        .Help("true: after an image whose retrieval was deferred for T_time, no loop closure on L_i while a location linked to it is in LTM and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, lags behind the robot (false = the paper)"),
+        .Help("true: no loop closure on L_i while a location linked to it is in LTM (deferred for T_time, or transferred) and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, may lag behind the robot (false = the paper)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
         .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
