@@ -75,6 +75,13 @@ def block_peak(start, end):
 rss_start = block_peak(len(rows) - tail, len(rows) - tail + 1000)
 rss_end = block_peak(len(rows) - 1000, len(rows))
 rss_growth = (rss_end / rss_start - 1) * 100
+# The same over halves of that tail: a block of 1,000 images holds ~10 one-second samples, and RSS
+# swings with the forest's rebuilds (two forests during a catch-up), so one block's peak may miss
+# them.
+half = tail // 2
+rss_half_start = block_peak(len(rows) - tail, len(rows) - half)
+rss_half_end = block_peak(len(rows) - half, len(rows))
+rss_half_growth = (rss_half_end / rss_half_start - 1) * 100
 running_peak = max(running.values(), default=float("nan"))
 print(f"\nimages: {len(rows)}; median iteration: images 1000-2000 {first:.1f} ms, last 1000 "
       f"{last:.1f} ms (ratio {last / first:.2f}); max {max(times):.1f} ms")
@@ -85,18 +92,22 @@ if time_limit > 0 and name == "time":
     # What the slowest ones were: the thread running (cpu_ms near the time) or not (waiting, or
     # descheduled: the host's steal time in that second tells the host).
     slowest = sorted(range(len(rows)), key=lambda i: -times[i])[:max(over, 5)]
-    print("\n| image | ms | cpu ms | LTM wait ms | slowest step | host steal in its second (ms) |")
-    print("| ---: | ---: | ---: | ---: | --- | ---: |")
+    print("\n| image | ms | cpu ms | LTM wait ms | map file read ms | slowest step "
+          "| host steal in its second (ms) |")
+    print("| ---: | ---: | ---: | ---: | ---: | --- | ---: |")
     steps = ["signature", "rehearsal", "likelihood", "filter", "selection", "retrieval",
              "transfer", "checkpoint"]
     for i in sorted(slowest):
         row = rows[i]
         step = max(steps, key=lambda s: float(row[s + "_ms"]))
         cpu = row.get("cpu_ms") or "nan"
+        read = row.get("ltm_read_ms") or "nan"
         print(f"| {i} | {times[i]:.1f} | {float(cpu):.1f} | {float(row.get('ltm_wait_ms') or 'nan'):.1f} "
-              f"| {step} {float(row[step + '_ms']):.1f} | {steal_around(i):.0f} |")
+              f"| {float(read):.1f} | {step} {float(row[step + '_ms']):.1f} | {steal_around(i):.0f} |")
 print(f"peak RSS {running_peak:.0f} MB while processing, {peak_mb:.0f} MB with the close; RSS "
       f"growth over the last {tail} images {rss_growth:.1f}% ({rss_start:.0f} -> {rss_end:.0f} MB); "
       f"map file {db / 1e6:.0f} MB")
+print(f"the highest RSS over the first and the second half of the last {tail} images: "
+      f"{rss_half_start:.0f} -> {rss_half_end:.0f} MB ({rss_half_growth:+.1f}%)")
 print(f"revisit images found: {found} of {revisit_images} in the sequence "
       f"({through_retrieval} on locations retrieved from LTM); false positives: {false_positives}")

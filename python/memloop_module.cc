@@ -150,6 +150,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("checkpoint_ms", &memloop::StageTimes::checkpoint_ms)
       .def_readonly("ltm_wait_ms", &memloop::StageTimes::ltm_wait_ms)
       .def_readonly("cpu_ms", &memloop::StageTimes::cpu_ms)
+      .def_readonly("ltm_read_ms", &memloop::StageTimes::ltm_read_ms)
       .def_readonly("total_ms", &memloop::StageTimes::total_ms);
 
   using memloop::Result;

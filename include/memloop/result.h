@@ -23,6 +23,10 @@ struct StageTimes {
   // Of the iteration, the time spent waiting for the map file's writer (its queue full, or the
   // previous checkpoint not committed), in whichever step it happened.
   double ltm_wait_ms = 0;
+  // Of the iteration, the time spent reading the map file (a retrieved location's rows and the
+  // descriptors of its words), in whichever step: a row the OS does not hold takes the disk's
+  // time, which the read-ahead (memory.retrieval_read_ahead) is there to spare the iteration.
+  double ltm_read_ms = 0;
   // CPU time of the detector's thread over the iteration: total_ms minus this is time it did
   // not run (waiting for the search's other thread, the disk or the writer, or descheduled by
   // the OS or a virtual machine's host), which tells a slow step from a stalled one.

@@ -210,7 +210,8 @@ class Detector::Impl {
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_this_iteration_.clear();
-    ltm_.TakeWriterWaitMs();  // waits between images are not this iteration's
+    ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
+    ltm_.TakeFileReadMs();
     iteration_cpu_start_ms_ = ThreadCpuMs();
     return result;
   }
@@ -546,6 +547,7 @@ class Detector::Impl {
     result.ltm_size = static_cast<int>(ltm_.size());
     result.dictionary_size = static_cast<int>(memory_.dictionary().size());
     result.times.ltm_wait_ms = ltm_.TakeWriterWaitMs();
+    result.times.ltm_read_ms = ltm_.TakeFileReadMs();
     result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;
     result.times.total_ms = iteration.ElapsedMs();
   }

@@ -99,7 +99,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
-        .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none); bounds memory, about 1.7 KB per word"),
+        .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none); bounds memory (about 1.7 KB per word) and, with it, WM and the time per image; 100,000 is the size the paper reached under T_time"),
     Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
     Param("memory.retrieval_min_value", MEMLOOP_FIELD(memory.retrieval_min_value)).Range(0, 1)

@@ -36,7 +36,7 @@ constexpr const char* kHeader =
     "features,words,"
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
-    "ltm_wait_ms,cpu_ms";
+    "ltm_wait_ms,cpu_ms,ltm_read_ms";
 
 }  // namespace
 
@@ -127,7 +127,7 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
       << ',' << t.transfer_ms << ',' << t.checkpoint_ms << ',' << result.stm_size << ','
       << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << ',' << t.ltm_wait_ms
-      << ',' << t.cpu_ms << '\n';
+      << ',' << t.cpu_ms << ',' << t.ltm_read_ms << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();

@@ -27,6 +27,11 @@ void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
   pending[from] = {sequence, to};
 }
 
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
 size_t BytesOf(const Location& location) {
   return sizeof(Location) +
          location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
@@ -120,8 +125,7 @@ void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Pre
   if (!done() && writer_failure_.empty()) {  // counted only when there is something to wait for
     const auto start = std::chrono::steady_clock::now();
     committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
-    writer_wait_ms_ +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    writer_wait_ms_ += MillisecondsSince(start);
   }
   --waiting_;
   ThrowIfFailedLocked();
@@ -281,7 +285,9 @@ std::optional<Location> LongTermMemory::ReadLocked(LocationId id) {
   if (pending != pending_locations_.end()) {
     location = pending->second.second;
   } else {
+    const auto start = std::chrono::steady_clock::now();
     location = reader_.ReadLocation(id);
+    file_read_ms_ += MillisecondsSince(start);
   }
   if (location) Rewrite(*location);
   return location;
@@ -312,7 +318,10 @@ std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
   const auto pending = pending_words_.find(id);
   if (pending != pending_words_.end()) return pending->second.second;
   if (pending_renames_.count(id)) return std::nullopt;
-  return reader_.ReadWord(id);
+  const auto start = std::chrono::steady_clock::now();
+  auto word = reader_.ReadWord(id);
+  file_read_ms_ += MillisecondsSince(start);
+  return word;
 }
 
 const std::vector<LocationId>& LongTermMemory::LinksOf(LocationId id) const {
@@ -406,6 +415,11 @@ void LongTermMemory::SetWriterHeld(bool held) {
 double LongTermMemory::TakeWriterWaitMs() {
   std::lock_guard<std::mutex> lock(mutex_);
   return std::exchange(writer_wait_ms_, 0.0);
+}
+
+double LongTermMemory::TakeFileReadMs() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(file_read_ms_, 0.0);
 }
 
 size_t LongTermMemory::pending_bytes() const {

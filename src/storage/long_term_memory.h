@@ -110,6 +110,9 @@ class LongTermMemory {
   // Milliseconds callers waited for the writer (the queue full, or a checkpoint waiting for the
   // previous one) since the last call: part of the caller's time that the map's disk sets.
   double TakeWriterWaitMs();
+  // Milliseconds callers spent reading the map file (Retrieve, Peek, LoadWord: rows not in the
+  // overlay) since the last call: a read the OS must fetch from the disk takes the disk's time.
+  double TakeFileReadMs();
   size_t pending_bytes() const;
   const std::string& path() const { return path_; }
 
@@ -195,6 +198,7 @@ class LongTermMemory {
   size_t pending_bytes_ = 0;
   int waiting_ = 0;            // threads waiting for the writer: a held writer then goes on
   double writer_wait_ms_ = 0;  // TakeWriterWaitMs
+  double file_read_ms_ = 0;    // TakeFileReadMs
   bool held_ = false;
   long long next_sequence_ = 1;
   long long committed_sequence_ = 0;

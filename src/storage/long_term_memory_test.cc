@@ -228,6 +228,26 @@ TEST(LongTermMemoryTest, NoWaitForTheWriterWhileTheQueueHasRoom) {
   ltm.SetWriterHeld(false);
 }
 
+// Only reads that reach the map file count as file reads: a location or word still queued is read
+// from memory.
+TEST(LongTermMemoryTest, FileReadTimeCountsOnlyReadsOfTheFile) {
+  testing::TempDir dir;
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, LtmOptions());
+  ltm.SetWriterHeld(true);
+  ltm.Store(MakeLocation(1, {7, 8}));
+  ltm.StoreWord(7, cv::Mat(1, 4, CV_32F, cv::Scalar(1)));
+  ASSERT_TRUE(ltm.Peek(1));
+  ASSERT_TRUE(ltm.LoadWord(7));
+  EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);  // both from the overlay
+  ltm.SetWriterHeld(false);
+  ltm.Flush();
+  ASSERT_TRUE(ltm.Peek(1));
+  EXPECT_GT(ltm.TakeFileReadMs(), 0.0);
+  EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);  // taken
+  ASSERT_TRUE(ltm.LoadWord(7));
+  EXPECT_GT(ltm.TakeFileReadMs(), 0.0);
+}
+
 // A full disk (emulated with SQLite's page limit) stops the run at the next call, not at Close.
 TEST(LongTermMemoryTest, WriterFailureIsReportedAtTheNextCall) {
   testing::TempDir dir;

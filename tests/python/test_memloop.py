@@ -95,6 +95,7 @@ def test_grey_images_and_results(tmp_path):
     assert result.feature_count > 0 and result.times.total_ms > 0
     # The detector's thread ran for part of the iteration's wall time, never longer.
     assert 0 < result.times.cpu_ms <= result.times.total_ms + 1
+    assert 0 <= result.times.ltm_read_ms <= result.times.total_ms
     # Nothing in LTM yet: nothing retrieved, deferred or matched by appearance.
     assert result.retrieved_ids == [] and result.retrievals_deferred == 0
     assert result.retrievals_unread == 0
