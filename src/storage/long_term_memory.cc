@@ -1,9 +1,9 @@
 #include "storage/long_term_memory.h"
 
 #include <algorithm>
-#include <chrono>
 #include <utility>
 
+#include "detector/stopwatch.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -25,11 +25,6 @@ void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
     if (entry.second == from) entry = {sequence, to};
   }
   pending[from] = {sequence, to};
-}
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
 }
 
 size_t BytesOf(const Location& location) {
@@ -123,9 +118,9 @@ void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Pre
   ++waiting_;
   wake_writer_.notify_one();
   if (!done() && writer_failure_.empty()) {  // counted only when there is something to wait for
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch waited;
     committed_.wait(lock, [&] { return done() || !writer_failure_.empty(); });
-    writer_wait_ms_ += MillisecondsSince(start);
+    writer_wait_ms_ += waited.ElapsedMs();
   }
   --waiting_;
   ThrowIfFailedLocked();
@@ -285,9 +280,9 @@ std::optional<Location> LongTermMemory::ReadLocked(LocationId id) {
   if (pending != pending_locations_.end()) {
     location = pending->second.second;
   } else {
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch read;
     location = reader_.ReadLocation(id);
-    file_read_ms_ += MillisecondsSince(start);
+    file_read_ms_ += read.ElapsedMs();
   }
   if (location) Rewrite(*location);
   return location;
@@ -318,9 +313,9 @@ std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
   const auto pending = pending_words_.find(id);
   if (pending != pending_words_.end()) return pending->second.second;
   if (pending_renames_.count(id)) return std::nullopt;
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch read;
   auto word = reader_.ReadWord(id);
-  file_read_ms_ += MillisecondsSince(start);
+  file_read_ms_ += read.ElapsedMs();
   return word;
 }
 
