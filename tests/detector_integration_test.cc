@@ -92,7 +92,9 @@ TEST(DetectorIntegrationTest, SmallWorkingMemoryFindsLoopsThroughRetrieval) {
 
 // Under T_time (on here, never reached) retrieval's rows are read by the read-ahead thread while
 // the writer writes the same file: every retrieval waits for them (the iteration has all the time
-// it needs), so none is left unread, and loops on retrieved locations are still found.
+// it needs), so none is left unread, and the detector's thread does not read the file itself.
+// RunRoute checks the map's consistency at every image: a location brought up to date wrongly
+// (a rename or link missed) shows there.
 TEST(DetectorIntegrationTest, RetrievalUnderTimeLimitReadsAhead) {
   const SyntheticRoute route;
   Options options = Deterministic();
@@ -100,11 +102,20 @@ TEST(DetectorIntegrationTest, RetrievalUnderTimeLimitReadsAhead) {
   options.memory.max_wm_locations = 35;
   ASSERT_TRUE(options.memory.retrieval_read_ahead);
   int retrieved = 0;
+  int retrieving = 0;        // iterations that retrieved
+  int reading_the_file = 0;  // of those, iterations that read the map file themselves
   for (const Result& result : RunRoute(route, options)) {
     retrieved += static_cast<int>(result.retrieved_ids.size());
     EXPECT_EQ(result.retrievals_unread, 0) << result.Brief();
+    if (result.retrieved_ids.empty()) continue;
+    ++retrieving;
+    if (result.times.ltm_read_ms > 0) ++reading_the_file;
   }
   EXPECT_GT(retrieved, 0);
+  // The rows come from the read-ahead thread. A few may be read again: a location whose store was
+  // still queued when that thread read it (0 of 40-60 in three runs; every one before issue 9's
+  // hand-over).
+  EXPECT_LE(reading_the_file * 5, retrieving);
 }
 
 // memory.retrieval_min_value: the highest hypothesis' LTM neighbours come back only when its value

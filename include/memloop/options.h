@@ -116,9 +116,10 @@ struct MemoryOptions {
   // quantizing an image). 0: up to max_retrieved whatever the time (the paper).
   int retrieval_within_time = 1;
   // 1 (with T_time on and retrieval_within_time): a thread reads ahead the map-file rows of the
-  // locations retrieval asks for, and a location is retrieved once they are read, waited for only
-  // as long as the iteration allows (memloop, issue 9: a row not in the OS's cache took 50-150 ms
-  // to read inside an iteration). 0: read when retrieved, whatever it takes (the paper).
+  // locations retrieval asks for and hands them over, brought up to date with the writes since;
+  // a location is retrieved once they are read, waited for only as long as the iteration allows
+  // (memloop, issue 9: a row not in the OS's cache took 50-150 ms to read inside an iteration).
+  // 0: read when retrieved, whatever it takes (the paper).
   int retrieval_read_ahead = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its

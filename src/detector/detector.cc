@@ -70,12 +70,12 @@ DictionaryOptions DictionaryOptionsOf(const Options& options) {
 
 // Under T_time, retrieval's reads of the map file are made ahead by a thread of their own
 // (ltm_read_ahead.h); with T_time off every read is waited for, as a repeatable run needs.
-std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const std::string& path) {
+std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const LongTermMemory& ltm) {
   const MemoryOptions& memory = options.memory;
   if (memory.time_limit_ms <= 0 || !memory.retrieval_within_time || !memory.retrieval_read_ahead) {
     return nullptr;
   }
-  return std::make_unique<LtmReadAhead>(path);
+  return std::make_unique<LtmReadAhead>(ltm);
 }
 
 std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
@@ -98,7 +98,7 @@ class Detector::Impl {
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
         ltm_(database_path, FileMode(mode)),
-        read_ahead_(MakeReadAhead(options_, database_path)),
+        read_ahead_(MakeReadAhead(options_, ltm_)),
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
     if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before

@@ -107,7 +107,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()
         .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
     Param("memory.retrieval_read_ahead", MEMLOOP_FIELD(memory.retrieval_read_ahead)).Flag()
-        .Help("true, with T_time on and memory.retrieval_within_time: a thread reads the map-file rows of the locations to retrieve, and one is retrieved once they are read, waited for only as long as the iteration allows (false = read when retrieved, whatever the disk takes, the paper)"),
+        .Help("true, with T_time on and memory.retrieval_within_time: a thread reads the map-file rows of the locations to retrieve and hands them over (the detector's thread does not read the file), and one is retrieved once they are read, waited for only as long as the iteration allows (false = read when retrieved, whatever the disk takes, the paper)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
     Param("memory.checkpoint_max_skipped", MEMLOOP_FIELD(memory.checkpoint_max_skipped)).Unit("images")

@@ -7,7 +7,8 @@
 
 namespace memloop {
 
-RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm) {
+RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
+                              const PrefetchedRows* rows) {
   RetrievalOutcome outcome;
   std::vector<WordId> missing;
   for (const auto& [word, count] : location.signature.Histogram()) {
@@ -18,7 +19,7 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
                       dictionary.descriptor_cv_type());
   const size_t row_bytes = descriptors.cols * descriptors.elemSize();
   for (size_t row = 0; row < missing.size(); ++row) {
-    const auto descriptor = ltm.LoadWord(missing[row]);
+    const auto descriptor = ltm.LoadWord(missing[row], rows);
     if (!descriptor || descriptor->size() != row_bytes) {
       throw DatabaseError(ltm.path(), "word " + std::to_string(missing[row]) + " of location " +
                                           std::to_string(location.id) + " is missing or damaged");
@@ -66,14 +67,16 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
       ++outcome.deferred;
       continue;
     }
-    if (read_ahead != nullptr && !read_ahead->WaitRead(id, deadline.SlackMs())) {
+    std::optional<PrefetchedRows> rows;
+    if (read_ahead != nullptr && !(rows = read_ahead->WaitRead(id, deadline.SlackMs()))) {
       ++outcome.deferred;
       ++outcome.unread;
       continue;
     }
     const Stopwatch stopwatch;
-    std::optional<Location> location = ltm.Retrieve(id);
-    const RetrievalOutcome words = RematchWords(*location, memory.dictionary(), ltm);
+    std::optional<Location> location = rows ? ltm.Retrieve(id, *rows) : ltm.Retrieve(id);
+    const RetrievalOutcome words =
+        RematchWords(*location, memory.dictionary(), ltm, rows ? &*rows : nullptr);
     outcome.words_added += words.words_added;
     outcome.words_replaced += words.words_replaced;
     // A word now in the dictionary may also be held by other LTM locations.

@@ -29,13 +29,16 @@ struct RetrievalOutcome {
 // hypothesis, and an appearance match, usually hold over several images).
 // With `read_ahead` (memory.retrieval_read_ahead, T_time on), every LTM location of the
 // neighbourhood is requested from the reader thread, nearest first, and one is retrieved only once
-// its rows are read, waited for no longer than `deadline` leaves; otherwise it is deferred too,
-// and the reader goes on reading it for a later iteration (a row not in the OS's cache: 50-150 ms).
+// its rows are read, waited for no longer than `deadline` leaves, from the rows that thread read
+// (the detector's thread does not read the file); otherwise it is deferred too, and the reader
+// goes on reading it for a later iteration (a row not in the OS's cache: 50-150 ms).
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
                           LongTermMemory& ltm, const StepDeadline& deadline = StepDeadline(),
                           LtmReadAhead* read_ahead = nullptr);
 
 // The words of `location` that left the dictionary, re-matched as above (exposed for tests).
-RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm);
+// With `rows` (read ahead for this location), word descriptors come from them when they hold them.
+RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
+                              const PrefetchedRows* rows = nullptr);
 
 }  // namespace memloop

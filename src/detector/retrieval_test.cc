@@ -86,7 +86,7 @@ TEST_F(RetrievalTest, RetrievalsThatDoNotFitAreDeferred) {
 // not fit, and stays requested; once read, the same locations come back as without read-ahead.
 TEST_F(RetrievalTest, LocationsWhoseRowsAreNotReadYetAreDeferred) {
   ltm_->Flush();  // the reader sees the file only
-  LtmReadAhead read_ahead(ltm_->path());
+  LtmReadAhead read_ahead(*ltm_);
   read_ahead.SetHeld(true);  // a disk that does not answer within the iteration
   StepCost cost;
   const StepDeadline deadline([] { return 0.0; }, 1e9, &cost);

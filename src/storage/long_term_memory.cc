@@ -55,7 +55,9 @@ LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
       read_only_(mode == LtmDatabase::Mode::kRead),
       reader_(path, mode),
       max_pending_bytes_(options.max_pending_bytes),
-      max_page_count_(options.max_page_count) {
+      max_page_count_(options.max_page_count),
+      committed_writes_(options.max_replayed_writes),
+      max_recent_word_bytes_(options.recent_word_bytes) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
   for (const auto& [from, to] : reader_.ReadAllLinks()) {
     if (Contains(from)) links_[from].push_back(to);
@@ -296,23 +298,52 @@ std::optional<Location> LongTermMemory::Peek(LocationId id) {
 
 std::optional<Location> LongTermMemory::Retrieve(LocationId id) {
   if (!Contains(id)) return std::nullopt;
-  std::optional<Location> location;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ThrowIfFailedLocked();
-    location = ReadLocked(id);
-  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  ThrowIfFailedLocked();
+  return TakeOut(id, ReadLocked(id));
+}
+
+std::optional<Location> LongTermMemory::Retrieve(LocationId id, const PrefetchedRows& rows) {
+  if (!Contains(id)) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  ThrowIfFailedLocked();
+  std::optional<Location> location = ReplayLocked(id, rows);
+  return TakeOut(id, location ? std::move(location) : ReadLocked(id));
+}
+
+std::optional<Location> LongTermMemory::TakeOut(LocationId id, std::optional<Location> location) {
   if (!location) throw DatabaseError(path_, "location " + std::to_string(id) + " is missing");
   ids_.erase(id);
   links_.erase(id);
   return location;
 }
 
-std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id) {
+std::optional<Location> LongTermMemory::ReplayLocked(LocationId id,
+                                                     const PrefetchedRows& rows) const {
+  // A queued store holds the location as it is now; in direct mode (closing) writes are not
+  // committed until the next checkpoint, so the committed ones do not say what changed.
+  if (direct_ || !rows.location || rows.location->id != id || pending_locations_.count(id) > 0) {
+    return std::nullopt;
+  }
+  std::optional<Location> location = rows.location;
+  if (!committed_writes_.ReplaySince(rows.committed, *location)) return std::nullopt;
+  Rewrite(*location);  // the writes still queued
+  return location;
+}
+
+std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id,
+                                                                   const PrefetchedRows* rows) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto pending = pending_words_.find(id);
   if (pending != pending_words_.end()) return pending->second.second;
   if (pending_renames_.count(id)) return std::nullopt;
+  if (const auto recent = recent_words_.find(id); recent != recent_words_.end()) {
+    return recent->second.descriptor;
+  }
+  if (rows != nullptr) {
+    const auto word = rows->words.find(id);
+    if (word != rows->words.end()) return word->second;
+  }
   const Stopwatch read;
   auto word = reader_.ReadWord(id);
   file_read_ms_ += read.ElapsedMs();
@@ -417,6 +448,11 @@ double LongTermMemory::TakeFileReadMs() {
   return std::exchange(file_read_ms_, 0.0);
 }
 
+long long LongTermMemory::committed_sequence() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return committed_sequence_;
+}
+
 size_t LongTermMemory::pending_bytes() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return pending_bytes_;
@@ -447,8 +483,28 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
   }
 }
 
-void LongTermMemory::Forget(long long committed, size_t bytes) {
+void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
+  using Kind = CommittedWrites::Kind;
   std::lock_guard<std::mutex> lock(mutex_);
+  for (const Queued& queued : batch) {
+    const Operation& operation = queued.operation;
+    if (const auto* store = std::get_if<StoreLocation>(&operation)) {
+      committed_writes_.Add(queued.sequence, Kind::kStore, store->location.id, 0);
+    } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
+      KeepRecentWordLocked(word->id, word->descriptor);
+    } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
+      DropRecentWordLocked(rename->old_id);  // the file no longer has it
+      committed_writes_.Add(queued.sequence, Kind::kRenameWord, rename->old_id, rename->new_id);
+    } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
+      committed_writes_.Add(queued.sequence, Kind::kRedirect, redirect->absorbed,
+                            redirect->survivor);
+    } else if (const auto* link = std::get_if<AddLinkOp>(&operation)) {
+      committed_writes_.Add(queued.sequence,
+                            link->loop_closure ? Kind::kLoopClosureLink : Kind::kNeighbourLink,
+                            link->from, link->to);
+    }
+  }
+  const long long committed = batch.back().sequence;
   committed_sequence_ = committed;
   pending_bytes_ -= bytes;
   EraseCommitted(pending_locations_, committed);
@@ -462,6 +518,24 @@ void LongTermMemory::Forget(long long committed, size_t bytes) {
                 links.end());
     entry = links.empty() ? pending_links_.erase(entry) : std::next(entry);
   }
+}
+
+void LongTermMemory::KeepRecentWordLocked(WordId id, const std::vector<unsigned char>& descriptor) {
+  if (recent_words_.count(id) > 0) return;  // the same bytes
+  recent_word_order_.push_back(id);
+  recent_words_.emplace(id, RecentWord{descriptor, std::prev(recent_word_order_.end())});
+  recent_word_bytes_ += descriptor.size();
+  while (recent_word_bytes_ > max_recent_word_bytes_) {
+    DropRecentWordLocked(recent_word_order_.front());
+  }
+}
+
+void LongTermMemory::DropRecentWordLocked(WordId id) {
+  const auto recent = recent_words_.find(id);
+  if (recent == recent_words_.end()) return;
+  recent_word_bytes_ -= recent->second.descriptor.size();
+  recent_word_order_.erase(recent->second.order);
+  recent_words_.erase(recent);
 }
 
 void LongTermMemory::WriterLoop(LtmOptions options) {
@@ -488,7 +562,7 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
         bytes += queued.bytes;
       }
       database.Commit();
-      Forget(batch.back().sequence, bytes);
+      Forget(batch, bytes);
       committed_.notify_all();
     }
   } catch (const std::exception& error) {

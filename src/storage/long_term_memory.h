@@ -8,6 +8,7 @@
 
 #include <condition_variable>
 #include <deque>
+#include <list>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -18,9 +19,18 @@
 #include <variant>
 #include <vector>
 
+#include "storage/committed_writes.h"
 #include "storage/ltm_database.h"
 
 namespace memloop {
+
+// A location's rows as another thread read them from the map file ahead of its retrieval
+// (LtmReadAhead), with the words of its signature the file held.
+struct PrefetchedRows {
+  long long committed = 0;           // LongTermMemory::committed_sequence() before the read
+  std::optional<Location> location;  // nullopt: the file had no such location
+  std::unordered_map<WordId, std::vector<unsigned char>> words;
+};
 
 struct LtmOptions {
   // Back-pressure: when queued writes hold more than this, the detector waits for the writer, so
@@ -29,6 +39,13 @@ struct LtmOptions {
   // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
   // value to meet a full disk.
   long long max_page_count = 0;
+  // Committed writes kept to bring prefetched rows up to date (committed_writes.h): ~300 an
+  // iteration that retrieves, 16 bytes each. Rows read before the oldest are read again.
+  size_t max_replayed_writes = size_t{1} << 17;
+  // Descriptors of the words stored last, kept after their commit up to this many bytes (~25,000
+  // SURF words, 100-150 iterations' transfers): retrieval asks for a location's words that left
+  // the dictionary, often soon after they left, and a read of the file may wait for the disk.
+  size_t recent_word_bytes = size_t{8} << 20;
 };
 
 class LongTermMemory {
@@ -51,10 +68,19 @@ class LongTermMemory {
   void StoreWord(WordId id, const cv::Mat& descriptor);
   // Retrieval (III-E): the location goes back to WM (its rows stay until it is stored again).
   std::optional<Location> Retrieve(LocationId id);
+  // The same, from `rows` read earlier by another thread, brought up to date with the writes
+  // committed since (CommittedWrites) and those still queued; read from the file as above when
+  // that cannot be done (the location was stored again since, or the writes since are not all
+  // kept). The same answer either way.
+  std::optional<Location> Retrieve(LocationId id, const PrefetchedRows& rows);
   // The location as LTM holds it, without taking it out; nullopt when it is not in LTM.
   std::optional<Location> Peek(LocationId id);
   // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
-  std::optional<std::vector<unsigned char>> LoadWord(WordId id);
+  // Answered from memory when it can be (a descriptor never changes): queued, stored lately
+  // (LtmOptions::recent_word_bytes) or, with `rows` (of a location Retrieve gave, asked for words
+  // of its signature as retrieved), held by the file when they were read.
+  std::optional<std::vector<unsigned char>> LoadWord(WordId id,
+                                                     const PrefetchedRows* rows = nullptr);
   // Links of a location in LTM, sorted; empty when it is not in LTM. From LTM's link graph, held
   // in memory (issue 9): retrieval walks it at every iteration, and reading it from the file
   // waited 400 ms for the disk once the OS had dropped the file's pages from its cache. The same
@@ -114,6 +140,9 @@ class LongTermMemory {
   // overlay) since the last call: a read the OS must fetch from the disk takes the disk's time.
   double TakeFileReadMs();
   size_t pending_bytes() const;
+  // The sequence number of the last write committed: a read of the file that begins after this
+  // call sees at least the writes up to it.
+  long long committed_sequence() const;
   const std::string& path() const { return path_; }
 
  private:
@@ -164,7 +193,15 @@ class LongTermMemory {
   void WriterLoop(LtmOptions options);
   void Apply(LtmDatabase& database, const Operation& operation);
   void ApplyDirectly(const Operation& operation);
-  void Forget(long long committed, size_t bytes);
+  // The writer committed `batch`: the overlay forgets it, CommittedWrites and recent_words_ keep
+  // what they need.
+  void Forget(const std::deque<Queued>& batch, size_t bytes);
+  void KeepRecentWordLocked(WordId id, const std::vector<unsigned char>& descriptor);
+  void DropRecentWordLocked(WordId id);
+  // `rows` brought up to date (Retrieve), or nullopt when that cannot be done.
+  std::optional<Location> ReplayLocked(LocationId id, const PrefetchedRows& rows) const;
+  // Takes the location read for Retrieve out of LTM; throws when it could not be read.
+  std::optional<Location> TakeOut(LocationId id, std::optional<Location> location);
   void ThrowIfFailedLocked() const;
   // The last sequence the writer may commit now, and how many queued writes that is.
   long long CommittableSequenceLocked() const;
@@ -211,6 +248,17 @@ class LongTermMemory {
   std::map<WordId, std::pair<long long, WordId>> pending_renames_;
   std::map<LocationId, std::pair<long long, LocationId>> pending_redirects_;
   std::map<LocationId, std::vector<std::pair<long long, AddLinkOp>>> pending_links_;
+  CommittedWrites committed_writes_;  // guarded by mutex_
+  // Descriptors of words whose store was committed lately (LtmOptions::recent_word_bytes), with
+  // their order, oldest first, to drop beyond the bound; guarded by mutex_.
+  struct RecentWord {
+    std::vector<unsigned char> descriptor;
+    std::list<WordId>::iterator order;  // in recent_word_order_
+  };
+  std::unordered_map<WordId, RecentWord> recent_words_;
+  std::list<WordId> recent_word_order_;
+  size_t recent_word_bytes_ = 0;
+  size_t max_recent_word_bytes_;
   bool stopping_ = false;
   std::string writer_failure_;
   std::thread writer_;

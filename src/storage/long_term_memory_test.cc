@@ -245,6 +245,40 @@ TEST(LongTermMemoryTest, FileReadTimeCountsOnlyReadsOfTheFile) {
   EXPECT_GT(ltm.TakeFileReadMs(), 0.0);
   EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);  // taken
   ASSERT_TRUE(ltm.LoadWord(7));
+  EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);  // a word stored lately: kept after its commit
+  ASSERT_FALSE(ltm.LoadWord(9));
+  EXPECT_GT(ltm.TakeFileReadMs(), 0.0);
+}
+
+// Words stored lately are answered from memory after their commit, as the file would answer: a
+// renamed word is gone, and beyond the bound the oldest are read from the file again.
+TEST(LongTermMemoryTest, WordsStoredLatelyAreKeptAfterTheirCommit) {
+  testing::TempDir dir;
+  LtmOptions options;
+  options.recent_word_bytes = 2 * 4 * sizeof(float);  // two words of 4 floats
+  LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, options);
+  const auto store = [&ltm](WordId word) {
+    ltm.StoreWord(word, cv::Mat(1, 4, CV_32F, cv::Scalar(word)));
+  };
+  ltm.Store(MakeLocation(1, {7, 9}));
+  store(7);
+  store(9);
+  ltm.Flush();
+  ltm.TakeFileReadMs();
+  EXPECT_EQ(*ltm.LoadWord(7), testing::FloatBytes({7, 7, 7, 7}));
+  EXPECT_EQ(*ltm.LoadWord(9), testing::FloatBytes({9, 9, 9, 9}));
+  EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);
+  ltm.ReplaceWord(9, 20);
+  ltm.Flush();
+  EXPECT_FALSE(ltm.LoadWord(9));  // renamed: not kept, and gone from the file too
+  store(10);
+  store(11);
+  ltm.Flush();  // 7, the oldest, goes
+  ltm.TakeFileReadMs();
+  EXPECT_EQ(*ltm.LoadWord(10), testing::FloatBytes({10, 10, 10, 10}));
+  EXPECT_EQ(*ltm.LoadWord(11), testing::FloatBytes({11, 11, 11, 11}));
+  EXPECT_EQ(ltm.TakeFileReadMs(), 0.0);
+  EXPECT_EQ(*ltm.LoadWord(7), testing::FloatBytes({7, 7, 7, 7}));
   EXPECT_GT(ltm.TakeFileReadMs(), 0.0);
 }
 

@@ -9,17 +9,38 @@ namespace memloop {
 namespace {
 
 // What the detector's retrieval reads (LongTermMemory::Retrieve, then LoadWord for the words
-// that left the dictionary), read and dropped. Any word may be one that left: all are read.
-void ReadRows(LtmDatabase& database, LocationId id) {
-  const std::optional<Location> location = database.ReadLocation(id);
-  if (!location) return;
-  const std::set<WordId> words(location->signature.words.begin(), location->signature.words.end());
-  for (WordId word : words) database.ReadWord(word);
+// that left the dictionary). Any word may be one that left: all are read. One read transaction:
+// it begins after `committed` was taken, so it sees at least the writes up to it.
+PrefetchedRows ReadRows(LtmDatabase& database, LocationId id, long long committed) {
+  PrefetchedRows rows;
+  rows.committed = committed;
+  database.Begin();
+  rows.location = database.ReadLocation(id);
+  if (rows.location) {
+    for (WordId word : rows.location->signature.words) {
+      if (rows.words.count(word) > 0) continue;
+      if (auto descriptor = database.ReadWord(word))
+        rows.words.emplace(word, std::move(*descriptor));
+    }
+  }
+  database.Commit();
+  return rows;
+}
+
+size_t BytesOf(const PrefetchedRows& rows) {
+  size_t bytes = sizeof(PrefetchedRows);
+  if (rows.location) {
+    bytes += rows.location->signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
+             (rows.location->neighbours.size() + rows.location->loop_closures.size()) * 48;
+  }
+  for (const auto& [word, descriptor] : rows.words) bytes += 48 + descriptor.size();
+  return bytes;
 }
 
 }  // namespace
 
-LtmReadAhead::LtmReadAhead(std::string path) : path_(std::move(path)) {}
+LtmReadAhead::LtmReadAhead(const LongTermMemory& ltm, size_t max_kept_bytes)
+    : ltm_(ltm), path_(ltm.path()), max_kept_bytes_(max_kept_bytes) {}
 
 LtmReadAhead::~LtmReadAhead() {
   {
@@ -34,7 +55,7 @@ void LtmReadAhead::Request(const std::vector<LocationId>& ids) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (LocationId id : ids) {
-      if (queued_.count(id) > 0 || read_ids_.count(id) > 0) continue;
+      if (id == reading_ || queued_.count(id) > 0 || read_.count(id) > 0) continue;
       queue_.push_back(id);
       queued_.insert(id);
     }
@@ -47,23 +68,26 @@ void LtmReadAhead::Request(const std::vector<LocationId>& ids) {
   wake_reader_.notify_one();
 }
 
-bool LtmReadAhead::WaitRead(LocationId id, double timeout_ms) {
+std::optional<PrefetchedRows> LtmReadAhead::WaitRead(LocationId id, double timeout_ms) {
   std::unique_lock<std::mutex> lock(mutex_);
-  if (read_ids_.count(id) == 0 && queued_.count(id) == 0) {
+  if (id != reading_ && read_.count(id) == 0 && queued_.count(id) == 0) {
     queue_.push_front(id);  // needed now: before what was requested ahead
     queued_.insert(id);
     if (!reader_.joinable()) reader_ = std::thread([this] { Loop(); });
     wake_reader_.notify_one();
   }
-  if (held_) return false;
-  const auto read = [this, id] { return read_ids_.count(id) > 0; };
+  if (held_) return std::nullopt;
+  const auto read = [this, id] { return read_.count(id) > 0; };
   if (timeout_ms > 1e12) {  // beyond a chrono time point's range: as long as it takes
-    read_.wait(lock, read);
-  } else if (!read_.wait_for(lock, std::chrono::duration<double, std::milli>(timeout_ms), read)) {
-    return false;
+    rows_read_signal_.wait(lock, read);
+  } else if (!rows_read_signal_.wait_for(
+                 lock, std::chrono::duration<double, std::milli>(timeout_ms), read)) {
+    return std::nullopt;
   }
-  read_ids_.erase(id);
-  return true;
+  const auto kept = read_.find(id);
+  PrefetchedRows rows = std::move(kept->second.rows);
+  ForgetLocked(kept);
+  return rows;
 }
 
 void LtmReadAhead::SetHeld(bool held) {
@@ -84,13 +108,26 @@ size_t LtmReadAhead::queued() const {
   return queue_.size();
 }
 
-void LtmReadAhead::MarkReadLocked(LocationId id) {
+size_t LtmReadAhead::kept_bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return read_bytes_;
+}
+
+void LtmReadAhead::ForgetLocked(std::map<LocationId, Kept>::iterator kept) {
+  read_bytes_ -= kept->second.bytes;
+  read_order_.erase(kept->second.order);
+  read_.erase(kept);
+}
+
+void LtmReadAhead::KeepLocked(LocationId id, PrefetchedRows rows) {
   ++rows_read_;
-  if (!read_ids_.insert(id).second) return;
+  if (const auto older = read_.find(id); older != read_.end()) ForgetLocked(older);
+  const size_t bytes = BytesOf(rows);
   read_order_.push_back(id);
-  while (read_order_.size() > kMaxRemembered) {
-    read_ids_.erase(read_order_.front());  // at worst one read again
-    read_order_.pop_front();
+  read_.emplace(id, Kept{std::prev(read_order_.end()), bytes, std::move(rows)});
+  read_bytes_ += bytes;
+  while (read_bytes_ > max_kept_bytes_ && read_.size() > 1) {
+    ForgetLocked(read_.find(read_order_.front()));  // at worst read again
   }
 }
 
@@ -106,20 +143,27 @@ void LtmReadAhead::Loop() {
       id = queue_.front();
       queue_.pop_front();
       queued_.erase(id);
+      reading_ = id;
     }
+    PrefetchedRows rows;
     try {
       if (!database && !unreadable) {
         database = std::make_unique<LtmDatabase>(path_, LtmDatabase::Mode::kPeek);
       }
-      if (database) ReadRows(*database, id);
+      if (database) rows = ReadRows(*database, id, ltm_.committed_sequence());
     } catch (const std::exception&) {
-      unreadable = unreadable || !database;  // a bad row: the detector's read will say so
+      // Unopenable: never again. A bad row: the detector's read will say so; the connection is
+      // opened anew, so that no read transaction stays open on an old state of the file.
+      unreadable = unreadable || !database;
+      database.reset();
+      rows = PrefetchedRows();
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      MarkReadLocked(id);
+      reading_ = kNoLocation;
+      KeepLocked(id, std::move(rows));
     }
-    read_.notify_all();
+    rows_read_signal_.notify_all();
   }
 }
 
