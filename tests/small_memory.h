@@ -35,6 +35,16 @@ inline Signature MakeSignature(const std::vector<WordId>& words) {
   return signature;
 }
 
+// A location as LTM tests store it: linked to its neighbours id - 1 and id + 1, image `id`.
+inline Location MakeLtmLocation(LocationId id, const std::vector<WordId>& words) {
+  Location location;
+  location.id = id;
+  location.signature = MakeSignature(words);
+  location.neighbours = {id - 1, id + 1};
+  location.images = {static_cast<ImageIndex>(id)};
+  return location;
+}
+
 // Adds locations with the given words to STM, each linked to the previous; returns their ids.
 inline std::vector<LocationId> AddChain(Memory& memory,
                                         const std::vector<std::vector<WordId>>& signatures) {

@@ -14,14 +14,7 @@ namespace {
 
 constexpr double kForever = std::numeric_limits<double>::infinity();
 
-Location MakeLocation(LocationId id, std::vector<WordId> words) {
-  Location location;
-  location.id = id;
-  location.signature = testing::MakeSignature(words);
-  location.neighbours = {id - 1, id + 1};
-  location.images = {id};
-  return location;
-}
+using testing::MakeLtmLocation;
 
 // Location 5 (words 10 and 11, which left the dictionary; links 4 and 6) in the file, and its rows
 // as the read-ahead thread read them then.
@@ -29,7 +22,7 @@ class PrefetchTest : public ::testing::Test {
  protected:
   explicit PrefetchTest(const LtmOptions& options = LtmOptions())
       : ltm_(dir_.File("map.db"), LtmDatabase::Mode::kCreate, options) {
-    ltm_.Store(MakeLocation(5, {10, 11}));
+    ltm_.Store(MakeLtmLocation(5, {10, 11}));
     ltm_.StoreWord(10, (cv::Mat_<float>(1, 2) << 1.f, 2.f));
     ltm_.StoreWord(11, (cv::Mat_<float>(1, 2) << 3.f, 4.f));
     ltm_.Flush();
@@ -76,9 +69,9 @@ INSTANTIATE_TEST_SUITE_P(WriterBehindOrNot, PrefetchWriterBehindTest, ::testing:
 // Retrieved and stored again since the read: the rows read are an older copy.
 TEST_F(PrefetchTest, ALocationStoredAgainSinceTheReadIsReadAgain) {
   ASSERT_TRUE(ltm_.Retrieve(5));
-  ltm_.Store(MakeLocation(5, {12, 13}));
+  ltm_.Store(MakeLtmLocation(5, {12, 13}));
   EXPECT_EQ(ltm_.Retrieve(5, rows_)->signature.words, (std::vector<WordId>{12, 13}));  // queued
-  ltm_.Store(MakeLocation(5, {14}));
+  ltm_.Store(MakeLtmLocation(5, {14}));
   ltm_.Flush();
   EXPECT_EQ(ltm_.Retrieve(5, rows_)->signature.words, (std::vector<WordId>{14}));  // committed
   EXPECT_GT(ltm_.TakeFileReadMs(), 0.0);
@@ -109,7 +102,7 @@ TEST(PrefetchReadOnlyTest, RowsGetTheChangesKeptInMemory) {
   const std::string path = dir.File("map.db");
   {
     LongTermMemory ltm(path);
-    ltm.Store(MakeLocation(5, {10, 11}));
+    ltm.Store(MakeLtmLocation(5, {10, 11}));
   }
   LongTermMemory ltm(path, LtmDatabase::Mode::kRead);
   LtmReadAhead read_ahead(ltm);

@@ -14,19 +14,12 @@
 namespace memloop {
 namespace {
 
-Location MakeLocation(LocationId id, std::vector<WordId> words) {
-  Location location;
-  location.id = id;
-  location.signature = testing::MakeSignature(words);
-  location.neighbours = {id - 1, id + 1};
-  location.images = {id};
-  return location;
-}
+using testing::MakeLtmLocation;
 
 TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
   testing::TempDir dir;
   LongTermMemory ltm(dir.File("map.db"));
-  ltm.Store(MakeLocation(5, {1, 2}));
+  ltm.Store(MakeLtmLocation(5, {1, 2}));
   ltm.StoreWord(2, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
   EXPECT_TRUE(ltm.Contains(5));
   EXPECT_EQ(ltm.LinksOf(5), (std::vector<LocationId>{4, 6}));
@@ -49,7 +42,7 @@ TEST(LongTermMemoryTest, ReadOnlyKeepsWritesInMemory) {
   const std::string path = dir.File("map.db");
   {
     LongTermMemory ltm(path);
-    ltm.Store(MakeLocation(5, {1, 2}));
+    ltm.Store(MakeLtmLocation(5, {1, 2}));
     ltm.StoreWord(2, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
   }
   const std::string before = testing::ReadBytes(path);
@@ -57,8 +50,8 @@ TEST(LongTermMemoryTest, ReadOnlyKeepsWritesInMemory) {
     LongTermMemory ltm(path, LtmDatabase::Mode::kRead);
     ASSERT_TRUE(ltm.Retrieve(5).has_value());  // into WM
     EXPECT_FALSE(ltm.Contains(5));
-    ltm.Store(MakeLocation(5, {1, 3}));  // back to LTM, with word 2 re-matched to word 3
-    ltm.Store(MakeLocation(7, {3}));     // a location the file never held
+    ltm.Store(MakeLtmLocation(5, {1, 3}));  // back to LTM, with word 2 re-matched to word 3
+    ltm.Store(MakeLtmLocation(7, {3}));     // a location the file never held
     ltm.StoreWord(3, (cv::Mat_<float>(1, 2) << 1.0f, 2.0f));
     ltm.ReplaceWord(3, 4);
     ltm.Flush();
@@ -94,9 +87,9 @@ TEST(LongTermMemoryTest, SurvivesKill9) {
   const std::string path = dir.File("map.db");
   ASSERT_TRUE(KilledAfter([&] {
     LongTermMemory ltm(path);
-    for (int id = 1; id <= 50; ++id) ltm.Store(MakeLocation(id, {id, id + 1000}));
+    for (int id = 1; id <= 50; ++id) ltm.Store(MakeLtmLocation(id, {id, id + 1000}));
     ltm.Flush();
-    for (int id = 51; id <= 2000; ++id) ltm.Store(MakeLocation(id, {id}));  // maybe written
+    for (int id = 51; id <= 2000; ++id) ltm.Store(MakeLtmLocation(id, {id}));  // maybe written
   }));
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);  // passes quick_check
   EXPECT_GE(database.CountLocations(), 50);
@@ -121,7 +114,7 @@ TEST_P(LongTermMemoryChainTest, RenamesAndRedirectionsResolveToTheirEnd) {
   const auto sync = [&] {
     if (!writer_behind) ltm.Flush();
   };
-  ltm.Store(MakeLocation(5, {10, 11}));  // links 4 and 6
+  ltm.Store(MakeLtmLocation(5, {10, 11}));  // links 4 and 6
   ltm.StoreWord(10, (cv::Mat_<float>(1, 2) << 1.f, 2.f));
   sync();
   ltm.ReplaceWord(10, 20);  // word 10 re-matched to 20 ...
@@ -154,7 +147,7 @@ TEST(LongTermMemoryTest, AddedLinksAreReadBeforeAndAfterCommit) {
   testing::TempDir dir;
   LongTermMemory ltm(dir.File("map.db"));
   ltm.SetWriterHeld(true);
-  ltm.Store(MakeLocation(5, {1}));
+  ltm.Store(MakeLtmLocation(5, {1}));
   ltm.AddLink(5, 40, /*loop_closure=*/true);
   EXPECT_EQ(ltm.Peek(5)->loop_closures, (std::set<LocationId>{40}));
   ltm.SetWriterHeld(false);
@@ -175,7 +168,7 @@ TEST(LongTermMemoryTest, LinkGraphInMemoryAgreesWithTheFile) {
   {
     LongTermMemory ltm(path);
     ltm.SetWriterHeld(true);
-    for (LocationId id : {5, 6, 7}) ltm.Store(MakeLocation(id, {1}));
+    for (LocationId id : {5, 6, 7}) ltm.Store(MakeLtmLocation(id, {1}));
     ltm.RedirectLocation(8, 9, {7, 9});  // 8 (in memory) merged into 9: LTM's 7 links to 9 now
     EXPECT_EQ(ltm.LinksOf(7), (std::vector<LocationId>{6, 9}));
     ltm.AddLink(5, 9, /*loop_closure=*/true);
@@ -208,7 +201,7 @@ TEST(LongTermMemoryTest, QueueIsBoundedEvenWhenTheWriterIsHeld) {
   ltm.SetWriterHeld(true);
   size_t most = 0;
   for (int id = 1; id <= 300; ++id) {
-    ltm.Store(MakeLocation(id, std::vector<WordId>(50, id)));
+    ltm.Store(MakeLtmLocation(id, std::vector<WordId>(50, id)));
     most = std::max(most, ltm.pending_bytes());
   }
   EXPECT_LE(most, options.max_pending_bytes);
@@ -223,7 +216,7 @@ TEST(LongTermMemoryTest, NoWaitForTheWriterWhileTheQueueHasRoom) {
   testing::TempDir dir;
   LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, LtmOptions());
   ltm.SetWriterHeld(true);
-  for (int id = 1; id <= 300; ++id) ltm.Store(MakeLocation(id, std::vector<WordId>(50, id)));
+  for (int id = 1; id <= 300; ++id) ltm.Store(MakeLtmLocation(id, std::vector<WordId>(50, id)));
   EXPECT_EQ(ltm.TakeWriterWaitMs(), 0.0);
   ltm.SetWriterHeld(false);
 }
@@ -234,7 +227,7 @@ TEST(LongTermMemoryTest, FileReadTimeCountsOnlyReadsOfTheFile) {
   testing::TempDir dir;
   LongTermMemory ltm(dir.File("map.db"), LtmDatabase::Mode::kCreate, LtmOptions());
   ltm.SetWriterHeld(true);
-  ltm.Store(MakeLocation(1, {7, 8}));
+  ltm.Store(MakeLtmLocation(1, {7, 8}));
   ltm.StoreWord(7, cv::Mat(1, 4, CV_32F, cv::Scalar(1)));
   ASSERT_TRUE(ltm.Peek(1));
   ASSERT_TRUE(ltm.LoadWord(7));
@@ -260,7 +253,7 @@ TEST(LongTermMemoryTest, WordsStoredLatelyAreKeptAfterTheirCommit) {
   const auto store = [&ltm](WordId word) {
     ltm.StoreWord(word, cv::Mat(1, 4, CV_32F, cv::Scalar(word)));
   };
-  ltm.Store(MakeLocation(1, {7, 9}));
+  ltm.Store(MakeLtmLocation(1, {7, 9}));
   store(7);
   store(9);
   ltm.Flush();
@@ -292,7 +285,7 @@ TEST(LongTermMemoryTest, WriterFailureIsReportedAtTheNextCall) {
   bool failed = false;
   for (int id = 1; id <= 2000 && !failed; ++id) {
     try {
-      ltm.Store(MakeLocation(id, std::vector<WordId>(100, id)));
+      ltm.Store(MakeLtmLocation(id, std::vector<WordId>(100, id)));
     } catch (const DatabaseError& error) {
       failed = true;
       EXPECT_NE(std::string(error.what()).find("writing the map failed"), std::string::npos);
@@ -319,9 +312,9 @@ TEST(LongTermMemoryTest, CommitsOnlyWholeCheckpoints) {
   const std::string path = dir.File("map.db");
   {
     LongTermMemory ltm(path);
-    ltm.Store(MakeLocation(1, {1}));
+    ltm.Store(MakeLtmLocation(1, {1}));
     ltm.Checkpoint(StateCheckpoint(1));
-    ltm.Store(MakeLocation(2, {2}));
+    ltm.Store(MakeLtmLocation(2, {2}));
     ltm.Flush();                           // up to the checkpoint
     EXPECT_TRUE(ltm.Peek(2).has_value());  // read through the queue
   }                                        // location 2 is dropped: no checkpoint after it
@@ -337,9 +330,9 @@ TEST(LongTermMemoryTest, KilledWriterLeavesTheFileAtACheckpoint) {
   ASSERT_TRUE(KilledAfter([&] {
     LongTermMemory ltm(path);
     for (int id = 1; id <= 200; ++id) {
-      ltm.Store(MakeLocation(id, std::vector<WordId>(40, id)));
+      ltm.Store(MakeLtmLocation(id, std::vector<WordId>(40, id)));
       ltm.Checkpoint(StateCheckpoint(id));
-      if (id % 2) ltm.Store(MakeLocation(1000 + id, {id}));  // after the checkpoint
+      if (id % 2) ltm.Store(MakeLtmLocation(1000 + id, {id}));  // after the checkpoint
     }
   }));
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);
@@ -360,11 +353,11 @@ TEST(LongTermMemoryTest, DirectWritesCommitAtTheNextCheckpoint) {
   const std::string path = dir.File("map.db");
   {
     LongTermMemory ltm(path);
-    ltm.Store(MakeLocation(1, {1}));
+    ltm.Store(MakeLtmLocation(1, {1}));
     ltm.Checkpoint(StateCheckpoint(1));
-    ltm.Store(MakeLocation(2, {2}));  // queued after the checkpoint
+    ltm.Store(MakeLtmLocation(2, {2}));  // queued after the checkpoint
     ltm.WriteDirectly();
-    ltm.Store(MakeLocation(3, {3}));
+    ltm.Store(MakeLtmLocation(3, {3}));
     ltm.StoreWord(3, (cv::Mat_<float>(1, 2) << 0.5f, 0.25f));
     ltm.ReplaceWord(2, 3);
     EXPECT_EQ(ltm.pending_bytes(), 0u);
@@ -373,7 +366,7 @@ TEST(LongTermMemoryTest, DirectWritesCommitAtTheNextCheckpoint) {
     EXPECT_EQ(ltm.LinksOf(3), (std::vector<LocationId>{2, 4}));
     EXPECT_EQ(*ltm.LoadWord(3), testing::FloatBytes({0.5f, 0.25f}));
     ltm.Checkpoint(StateCheckpoint(2));
-    ltm.Store(MakeLocation(4, {4}));  // after the last checkpoint: dropped
+    ltm.Store(MakeLtmLocation(4, {4}));  // after the last checkpoint: dropped
     ltm.Flush();
   }
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);
@@ -389,9 +382,9 @@ TEST(LongTermMemoryTest, DirectWritesWithoutCheckpointsAreKept) {
   const std::string path = dir.File("map.db");
   {
     LongTermMemory ltm(path);
-    ltm.Store(MakeLocation(1, {1}));
+    ltm.Store(MakeLtmLocation(1, {1}));
     ltm.WriteDirectly();
-    ltm.Store(MakeLocation(2, {2}));
+    ltm.Store(MakeLtmLocation(2, {2}));
   }
   LtmDatabase database(path, LtmDatabase::Mode::kOpen);
   EXPECT_TRUE(database.ReadLocation(1).has_value());
@@ -407,13 +400,13 @@ TEST(LongTermMemoryTest, DirectWriteFailureKeepsTheLastCheckpoint) {
   options.max_page_count = 12;
   {
     LongTermMemory ltm(path, LtmDatabase::Mode::kCreate, options);
-    ltm.Store(MakeLocation(1, {1}));
+    ltm.Store(MakeLtmLocation(1, {1}));
     ltm.Checkpoint(StateCheckpoint(1));
     ltm.WriteDirectly();
     bool failed = false;
     for (int id = 2; id <= 2000 && !failed; ++id) {
       try {
-        ltm.Store(MakeLocation(id, std::vector<WordId>(100, id)));
+        ltm.Store(MakeLtmLocation(id, std::vector<WordId>(100, id)));
       } catch (const DatabaseError& error) {
         failed = true;
         EXPECT_NE(std::string(error.what()).find(path), std::string::npos);
