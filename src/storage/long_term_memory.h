@@ -39,8 +39,9 @@ struct LtmOptions {
   // SQLite max_page_count of the writer's connection (0 = SQLite's default). Tests use a small
   // value to meet a full disk.
   long long max_page_count = 0;
-  // Committed writes kept to bring prefetched rows up to date (committed_writes.h): ~300 an
-  // iteration that retrieves, 16 bytes each. Rows read before the oldest are read again.
+  // Committed writes kept to bring prefetched rows up to date (committed_writes.h): mostly the
+  // renames of retrieved locations' re-matched words, at most a few hundred an iteration; 24
+  // bytes each (3 MB). Rows read before the oldest are read again.
   size_t max_replayed_writes = size_t{1} << 17;
   // Descriptors of the words stored last, kept after their commit up to this many bytes (~25,000
   // SURF words, 100-150 iterations' transfers): retrieval asks for a location's words that left
