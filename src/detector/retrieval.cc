@@ -68,7 +68,12 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
       continue;
     }
     std::optional<PrefetchedRows> rows;
-    if (read_ahead != nullptr && !(rows = read_ahead->WaitRead(id, deadline.SlackMs()))) {
+    if (read_ahead != nullptr) {
+      rows = read_ahead->WaitRead(id, deadline.SlackMs());
+      // Read long ago (kept while other locations were retrieved): read again on its thread.
+      if (rows && !ltm.Current(*rows)) rows = read_ahead->WaitRead(id, deadline.SlackMs());
+    }
+    if (read_ahead != nullptr && !rows) {
       ++outcome.deferred;
       ++outcome.unread;
       continue;

@@ -34,6 +34,8 @@ class CommittedWrites {
   // `since` (the read has an older copy), or writes after `since` are no longer kept.
   bool ReplaySince(long long since, Location& location) const;
   size_t size() const { return writes_.size(); }
+  // Every write committed after this sequence is kept.
+  long long floor() const { return floor_; }
 
  private:
   struct Write {

@@ -331,6 +331,11 @@ std::optional<Location> LongTermMemory::ReplayLocked(LocationId id,
   return location;
 }
 
+bool LongTermMemory::Current(const PrefetchedRows& rows) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rows.committed >= committed_writes_.floor() && rows.committed >= recent_words_floor_;
+}
+
 std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id,
                                                                    const PrefetchedRows* rows) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -491,7 +496,7 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
     if (const auto* store = std::get_if<StoreLocation>(&operation)) {
       committed_writes_.Add(queued.sequence, Kind::kStore, store->location.id, 0);
     } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
-      KeepRecentWordLocked(word->id, word->descriptor);
+      KeepRecentWordLocked(queued.sequence, word->id, word->descriptor);
     } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
       DropRecentWordLocked(rename->old_id);  // the file no longer has it
       committed_writes_.Add(queued.sequence, Kind::kRenameWord, rename->old_id, rename->new_id);
@@ -520,13 +525,16 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
   }
 }
 
-void LongTermMemory::KeepRecentWordLocked(WordId id, const std::vector<unsigned char>& descriptor) {
+void LongTermMemory::KeepRecentWordLocked(long long sequence, WordId id,
+                                          const std::vector<unsigned char>& descriptor) {
   if (recent_words_.count(id) > 0) return;  // the same bytes
   recent_word_order_.push_back(id);
-  recent_words_.emplace(id, RecentWord{descriptor, std::prev(recent_word_order_.end())});
+  recent_words_.emplace(id, RecentWord{sequence, descriptor, std::prev(recent_word_order_.end())});
   recent_word_bytes_ += descriptor.size();
   while (recent_word_bytes_ > max_recent_word_bytes_) {
-    DropRecentWordLocked(recent_word_order_.front());
+    const WordId oldest = recent_word_order_.front();
+    recent_words_floor_ = recent_words_.at(oldest).sequence;
+    DropRecentWordLocked(oldest);
   }
 }
 

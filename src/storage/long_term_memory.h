@@ -76,6 +76,10 @@ class LongTermMemory {
   std::optional<Location> Retrieve(LocationId id, const PrefetchedRows& rows);
   // The location as LTM holds it, without taking it out; nullopt when it is not in LTM.
   std::optional<Location> Peek(LocationId id);
+  // True when rows read ahead can be used without reading the file: every write that changed
+  // rows since their read, and every word stored since, are still kept. Older rows are better
+  // read again on the read-ahead thread, where a wait for the disk does not stop the detector.
+  bool Current(const PrefetchedRows& rows) const;
   // The bytes of the word's descriptor row; nullopt when LTM does not hold it.
   // Answered from memory when it can be (a descriptor never changes): queued, stored lately
   // (LtmOptions::recent_word_bytes) or, with `rows` (of a location Retrieve gave, asked for words
@@ -197,7 +201,8 @@ class LongTermMemory {
   // The writer committed `batch`: the overlay forgets it, CommittedWrites and recent_words_ keep
   // what they need.
   void Forget(const std::deque<Queued>& batch, size_t bytes);
-  void KeepRecentWordLocked(WordId id, const std::vector<unsigned char>& descriptor);
+  void KeepRecentWordLocked(long long sequence, WordId id,
+                            const std::vector<unsigned char>& descriptor);
   void DropRecentWordLocked(WordId id);
   // `rows` brought up to date (Retrieve), or nullopt when that cannot be done.
   std::optional<Location> ReplayLocked(LocationId id, const PrefetchedRows& rows) const;
@@ -253,12 +258,14 @@ class LongTermMemory {
   // Descriptors of words whose store was committed lately (LtmOptions::recent_word_bytes), with
   // their order, oldest first, to drop beyond the bound; guarded by mutex_.
   struct RecentWord {
+    long long sequence;  // of its store
     std::vector<unsigned char> descriptor;
     std::list<WordId>::iterator order;  // in recent_word_order_
   };
   std::unordered_map<WordId, RecentWord> recent_words_;
   std::list<WordId> recent_word_order_;
   size_t recent_word_bytes_ = 0;
+  long long recent_words_floor_ = 0;  // every word stored after it is kept (or renamed since)
   size_t max_recent_word_bytes_;
   bool stopping_ = false;
   std::string writer_failure_;

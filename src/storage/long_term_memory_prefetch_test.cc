@@ -88,12 +88,40 @@ class PrefetchFewWritesKeptTest : public PrefetchTest {
 };
 
 TEST_F(PrefetchFewWritesKeptTest, RowsOlderThanTheWritesKeptAreReadAgain) {
-  for (LocationId to : {40, 41, 42}) ltm_.AddLink(5, to, /*loop_closure=*/false);
-  ltm_.Flush();  // the first of the three is no longer kept
+  for (LocationId to : {40, 41}) ltm_.AddLink(5, to, /*loop_closure=*/false);
+  ltm_.Flush();
+  EXPECT_TRUE(ltm_.Current(rows_));
+  ltm_.AddLink(5, 42, /*loop_closure=*/false);
+  ltm_.Flush();                       // the first of the three is no longer kept
+  EXPECT_FALSE(ltm_.Current(rows_));  // retrieval has the read-ahead thread read them again
   const std::optional<Location> location = ltm_.Retrieve(5, rows_);
   EXPECT_GT(ltm_.TakeFileReadMs(), 0.0);
   ASSERT_TRUE(location);
   EXPECT_EQ(location->neighbours, (std::set<LocationId>{4, 6, 40, 41, 42}));
+}
+
+// Words of 2 floats, two kept after their commit: the fixture's 10 and 11 at first.
+class PrefetchFewWordsKeptTest : public PrefetchTest {
+ protected:
+  PrefetchFewWordsKeptTest() : PrefetchTest(Options()) {}
+  static LtmOptions Options() {
+    LtmOptions options;
+    options.recent_word_bytes = 2 * 2 * sizeof(float);
+    return options;
+  }
+};
+
+// Rows are current while every word stored since their read is kept: a word that left the
+// dictionary after the read is then answered without reading the file.
+TEST_F(PrefetchFewWordsKeptTest, RowsAreCurrentWhileTheWordsStoredSinceAreKept) {
+  for (WordId word : {30, 31}) {
+    ltm_.StoreWord(word, (cv::Mat_<float>(1, 2) << 1.f * word, 0.f));
+    ltm_.Flush();  // 10, then 11 go: stored before the read, which has them
+    EXPECT_TRUE(ltm_.Current(rows_));
+  }
+  ltm_.StoreWord(32, (cv::Mat_<float>(1, 2) << 32.f, 0.f));
+  ltm_.Flush();  // 30 goes: stored after the read
+  EXPECT_FALSE(ltm_.Current(rows_));
 }
 
 // Localization: nothing is written, every change stays in the overlay, which the rows get too.
