@@ -22,6 +22,8 @@ struct Location {
 
   // Neighbour and loop-closure links together, sorted.
   std::vector<LocationId> Links() const;
+  // About the memory it holds (queues and caches bounded in bytes count with it).
+  size_t ApproximateBytes() const;
 };
 
 }  // namespace memloop

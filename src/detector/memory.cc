@@ -15,6 +15,11 @@ std::vector<LocationId> Location::Links() const {
   return links;
 }
 
+size_t Location::ApproximateBytes() const {
+  return sizeof(Location) + signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
+         (neighbours.size() + loop_closures.size()) * 48 + images.size() * sizeof(ImageIndex);
+}
+
 Memory::Memory(DescriptorKind kind, int descriptor_dim, const DictionaryOptions& dictionary_options)
     : dictionary_(kind, descriptor_dim, dictionary_options) {}
 

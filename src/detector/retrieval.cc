@@ -72,11 +72,11 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
       rows = read_ahead->WaitRead(id, deadline.SlackMs());
       // Read long ago (kept while other locations were retrieved): read again on its thread.
       if (rows && !ltm.Current(*rows)) rows = read_ahead->WaitRead(id, deadline.SlackMs());
-    }
-    if (read_ahead != nullptr && !rows) {
-      ++outcome.deferred;
-      ++outcome.unread;
-      continue;
+      if (!rows) {
+        ++outcome.deferred;
+        ++outcome.unread;
+        continue;
+      }
     }
     const Stopwatch stopwatch;
     std::optional<Location> location = rows ? ltm.Retrieve(id, *rows) : ltm.Retrieve(id);

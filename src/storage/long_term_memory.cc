@@ -27,13 +27,6 @@ void ResolveChains(Map& pending, Id from, Id to, long long sequence) {
   pending[from] = {sequence, to};
 }
 
-size_t BytesOf(const Location& location) {
-  return sizeof(Location) +
-         location.signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
-         (location.neighbours.size() + location.loop_closures.size()) * 48 +
-         location.images.size() * sizeof(ImageIndex);
-}
-
 // `links` (a location's, sorted) gains `target` unless it holds it already or it is `self`.
 void AddSortedLink(std::vector<LocationId>& links, LocationId target, LocationId self) {
   const auto place = std::lower_bound(links.begin(), links.end(), target);
@@ -57,7 +50,7 @@ LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
       max_pending_bytes_(options.max_pending_bytes),
       max_page_count_(options.max_page_count),
       committed_writes_(options.max_replayed_writes),
-      max_recent_word_bytes_(options.recent_word_bytes) {
+      recent_words_(options.recent_word_bytes) {
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
   for (const auto& [from, to] : reader_.ReadAllLinks()) {
     if (Contains(from)) links_[from].push_back(to);
@@ -131,7 +124,7 @@ void LongTermMemory::WaitForWriterLocked(std::unique_lock<std::mutex>& lock, Pre
 void LongTermMemory::Enqueue(Operation operation) {
   size_t bytes = 64;
   if (const auto* store = std::get_if<StoreLocation>(&operation)) {
-    bytes += BytesOf(store->location);
+    bytes += store->location.ApproximateBytes();
   } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
     bytes += word->descriptor.size();
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {
@@ -342,9 +335,7 @@ std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id,
   const auto pending = pending_words_.find(id);
   if (pending != pending_words_.end()) return pending->second.second;
   if (pending_renames_.count(id)) return std::nullopt;
-  if (const auto recent = recent_words_.find(id); recent != recent_words_.end()) {
-    return recent->second.descriptor;
-  }
+  if (const auto* recent = recent_words_.Find(id)) return recent->second;
   if (rows != nullptr) {
     const auto word = rows->words.find(id);
     if (word != rows->words.end()) return word->second;
@@ -496,9 +487,12 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
     if (const auto* store = std::get_if<StoreLocation>(&operation)) {
       committed_writes_.Add(queued.sequence, Kind::kStore, store->location.id, 0);
     } else if (const auto* word = std::get_if<StoreWordOp>(&operation)) {
-      KeepRecentWordLocked(queued.sequence, word->id, word->descriptor);
+      if (recent_words_.Contains(word->id)) continue;  // the same bytes
+      recent_words_.Add(
+          word->id, {queued.sequence, word->descriptor}, word->descriptor.size(),
+          [this](WordId, const auto& dropped) { recent_words_floor_ = dropped.first; });
     } else if (const auto* rename = std::get_if<ReplaceWordOp>(&operation)) {
-      DropRecentWordLocked(rename->old_id);  // the file no longer has it
+      recent_words_.Erase(rename->old_id);  // the file no longer has it
       committed_writes_.Add(queued.sequence, Kind::kRenameWord, rename->old_id, rename->new_id);
     } else if (const auto* redirect = std::get_if<RedirectOp>(&operation)) {
       committed_writes_.Add(queued.sequence, Kind::kRedirect, redirect->absorbed,
@@ -523,27 +517,6 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
                 links.end());
     entry = links.empty() ? pending_links_.erase(entry) : std::next(entry);
   }
-}
-
-void LongTermMemory::KeepRecentWordLocked(long long sequence, WordId id,
-                                          const std::vector<unsigned char>& descriptor) {
-  if (recent_words_.count(id) > 0) return;  // the same bytes
-  recent_word_order_.push_back(id);
-  recent_words_.emplace(id, RecentWord{sequence, descriptor, std::prev(recent_word_order_.end())});
-  recent_word_bytes_ += descriptor.size();
-  while (recent_word_bytes_ > max_recent_word_bytes_) {
-    const WordId oldest = recent_word_order_.front();
-    recent_words_floor_ = recent_words_.at(oldest).sequence;
-    DropRecentWordLocked(oldest);
-  }
-}
-
-void LongTermMemory::DropRecentWordLocked(WordId id) {
-  const auto recent = recent_words_.find(id);
-  if (recent == recent_words_.end()) return;
-  recent_word_bytes_ -= recent->second.descriptor.size();
-  recent_word_order_.erase(recent->second.order);
-  recent_words_.erase(recent);
 }
 
 void LongTermMemory::WriterLoop(LtmOptions options) {

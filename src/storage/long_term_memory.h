@@ -8,7 +8,6 @@
 
 #include <condition_variable>
 #include <deque>
-#include <list>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -21,6 +20,7 @@
 
 #include "storage/committed_writes.h"
 #include "storage/ltm_database.h"
+#include "storage/oldest_first_cache.h"
 
 namespace memloop {
 
@@ -43,9 +43,9 @@ struct LtmOptions {
   // renames of retrieved locations' re-matched words, at most a few hundred an iteration; 24
   // bytes each (3 MB). Rows read before the oldest are read again.
   size_t max_replayed_writes = size_t{1} << 17;
-  // Descriptors of the words stored last, kept after their commit up to this many bytes (~25,000
-  // SURF words, 100-150 iterations' transfers): retrieval asks for a location's words that left
-  // the dictionary, often soon after they left, and a read of the file may wait for the disk.
+  // Descriptors of the words stored last, kept after their commit up to this many bytes (32,768
+  // SURF words of 64 floats): retrieval asks for a location's words that left the dictionary,
+  // often soon after they left, and a read of the file may wait for the disk.
   size_t recent_word_bytes = size_t{8} << 20;
 };
 
@@ -201,9 +201,6 @@ class LongTermMemory {
   // The writer committed `batch`: the overlay forgets it, CommittedWrites and recent_words_ keep
   // what they need.
   void Forget(const std::deque<Queued>& batch, size_t bytes);
-  void KeepRecentWordLocked(long long sequence, WordId id,
-                            const std::vector<unsigned char>& descriptor);
-  void DropRecentWordLocked(WordId id);
   // `rows` brought up to date (Retrieve), or nullopt when that cannot be done.
   std::optional<Location> ReplayLocked(LocationId id, const PrefetchedRows& rows) const;
   // Takes the location read for Retrieve out of LTM; throws when it could not be read.
@@ -256,17 +253,9 @@ class LongTermMemory {
   std::map<LocationId, std::vector<std::pair<long long, AddLinkOp>>> pending_links_;
   CommittedWrites committed_writes_;  // guarded by mutex_
   // Descriptors of words whose store was committed lately (LtmOptions::recent_word_bytes), with
-  // their order, oldest first, to drop beyond the bound; guarded by mutex_.
-  struct RecentWord {
-    long long sequence;  // of its store
-    std::vector<unsigned char> descriptor;
-    std::list<WordId>::iterator order;  // in recent_word_order_
-  };
-  std::unordered_map<WordId, RecentWord> recent_words_;
-  std::list<WordId> recent_word_order_;
-  size_t recent_word_bytes_ = 0;
+  // the sequence of the store; guarded by mutex_.
+  OldestFirstCache<WordId, std::pair<long long, std::vector<unsigned char>>> recent_words_;
   long long recent_words_floor_ = 0;  // every word stored after it is kept (or renamed since)
-  size_t max_recent_word_bytes_;
   bool stopping_ = false;
   std::string writer_failure_;
   std::thread writer_;

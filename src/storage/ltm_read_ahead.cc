@@ -28,11 +28,7 @@ PrefetchedRows ReadRows(LtmDatabase& database, LocationId id, long long committe
 }
 
 size_t BytesOf(const PrefetchedRows& rows) {
-  size_t bytes = sizeof(PrefetchedRows);
-  if (rows.location) {
-    bytes += rows.location->signature.words.size() * (sizeof(WordId) + sizeof(cv::KeyPoint)) +
-             (rows.location->neighbours.size() + rows.location->loop_closures.size()) * 48;
-  }
+  size_t bytes = sizeof(PrefetchedRows) + (rows.location ? rows.location->ApproximateBytes() : 0);
   for (const auto& [word, descriptor] : rows.words) bytes += 48 + descriptor.size();
   return bytes;
 }
@@ -40,7 +36,7 @@ size_t BytesOf(const PrefetchedRows& rows) {
 }  // namespace
 
 LtmReadAhead::LtmReadAhead(const LongTermMemory& ltm, size_t max_kept_bytes)
-    : ltm_(ltm), path_(ltm.path()), max_kept_bytes_(max_kept_bytes) {}
+    : ltm_(ltm), read_(max_kept_bytes) {}
 
 LtmReadAhead::~LtmReadAhead() {
   {
@@ -55,7 +51,7 @@ void LtmReadAhead::Request(const std::vector<LocationId>& ids) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (LocationId id : ids) {
-      if (id == reading_ || queued_.count(id) > 0 || read_.count(id) > 0) continue;
+      if (id == reading_ || queued_.count(id) > 0 || read_.Contains(id)) continue;
       queue_.push_back(id);
       queued_.insert(id);
     }
@@ -70,24 +66,21 @@ void LtmReadAhead::Request(const std::vector<LocationId>& ids) {
 
 std::optional<PrefetchedRows> LtmReadAhead::WaitRead(LocationId id, double timeout_ms) {
   std::unique_lock<std::mutex> lock(mutex_);
-  if (id != reading_ && read_.count(id) == 0 && queued_.count(id) == 0) {
+  if (id != reading_ && !read_.Contains(id) && queued_.count(id) == 0) {
     queue_.push_front(id);  // needed now: before what was requested ahead
     queued_.insert(id);
     if (!reader_.joinable()) reader_ = std::thread([this] { Loop(); });
     wake_reader_.notify_one();
   }
   if (held_) return std::nullopt;
-  const auto read = [this, id] { return read_.count(id) > 0; };
+  const auto read = [this, id] { return read_.Contains(id); };
   if (timeout_ms > 1e12) {  // beyond a chrono time point's range: as long as it takes
     rows_read_signal_.wait(lock, read);
   } else if (!rows_read_signal_.wait_for(
                  lock, std::chrono::duration<double, std::milli>(timeout_ms), read)) {
     return std::nullopt;
   }
-  const auto kept = read_.find(id);
-  PrefetchedRows rows = std::move(kept->second.rows);
-  ForgetLocked(kept);
-  return rows;
+  return read_.Take(id);
 }
 
 void LtmReadAhead::SetHeld(bool held) {
@@ -110,25 +103,7 @@ size_t LtmReadAhead::queued() const {
 
 size_t LtmReadAhead::kept_bytes() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return read_bytes_;
-}
-
-void LtmReadAhead::ForgetLocked(std::map<LocationId, Kept>::iterator kept) {
-  read_bytes_ -= kept->second.bytes;
-  read_order_.erase(kept->second.order);
-  read_.erase(kept);
-}
-
-void LtmReadAhead::KeepLocked(LocationId id, PrefetchedRows rows) {
-  ++rows_read_;
-  if (const auto older = read_.find(id); older != read_.end()) ForgetLocked(older);
-  const size_t bytes = BytesOf(rows);
-  read_order_.push_back(id);
-  read_.emplace(id, Kept{std::prev(read_order_.end()), bytes, std::move(rows)});
-  read_bytes_ += bytes;
-  while (read_bytes_ > max_kept_bytes_ && read_.size() > 1) {
-    ForgetLocked(read_.find(read_order_.front()));  // at worst read again
-  }
+  return read_.bytes();
 }
 
 void LtmReadAhead::Loop() {
@@ -148,7 +123,7 @@ void LtmReadAhead::Loop() {
     PrefetchedRows rows;
     try {
       if (!database && !unreadable) {
-        database = std::make_unique<LtmDatabase>(path_, LtmDatabase::Mode::kPeek);
+        database = std::make_unique<LtmDatabase>(ltm_.path(), LtmDatabase::Mode::kPeek);
       }
       if (database) rows = ReadRows(*database, id, ltm_.committed_sequence());
     } catch (const std::exception&) {
@@ -161,7 +136,9 @@ void LtmReadAhead::Loop() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       reading_ = kNoLocation;
-      KeepLocked(id, std::move(rows));
+      ++rows_read_;
+      const size_t bytes = BytesOf(rows);
+      read_.Add(id, std::move(rows), bytes);  // dropped ones are read again if asked for
     }
     rows_read_signal_.notify_all();
   }

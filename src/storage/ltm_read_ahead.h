@@ -12,17 +12,15 @@
 
 #include <condition_variable>
 #include <deque>
-#include <list>
-#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
-#include <string>
 #include <thread>
 #include <vector>
 
 #include "detector/location.h"
 #include "storage/long_term_memory.h"
+#include "storage/oldest_first_cache.h"
 
 namespace memloop {
 
@@ -44,7 +42,7 @@ class LtmReadAhead {
   // for LongTermMemory::Retrieve(id, rows); nullopt when they were not read in time. Rows handed
   // over are forgotten, so that the id is read again when next requested.
   std::optional<PrefetchedRows> WaitRead(LocationId id, double timeout_ms);
-  // For tests: while held, nothing is read and WaitRead answers false at once, as when the disk
+  // For tests: while held, nothing is read and WaitRead answers nullopt at once, as when the disk
   // does not answer within the iteration.
   void SetHeld(bool held);
   long long rows_read() const;  // locations read since construction
@@ -57,19 +55,9 @@ class LtmReadAhead {
   static constexpr size_t kMaxKeptBytes = size_t{16} << 20;
 
  private:
-  struct Kept {                             // rows read and not handed over yet
-    std::list<LocationId>::iterator order;  // in read_order_
-    size_t bytes;
-    PrefetchedRows rows;
-  };
-
   void Loop();
-  void KeepLocked(LocationId id, PrefetchedRows rows);
-  void ForgetLocked(std::map<LocationId, Kept>::iterator kept);
 
   const LongTermMemory& ltm_;
-  std::string path_;
-  size_t max_kept_bytes_;
   mutable std::mutex mutex_;
   std::condition_variable wake_reader_;
   std::condition_variable rows_read_signal_;
@@ -78,9 +66,7 @@ class LtmReadAhead {
   // Being read: a request for it now would read it again once it is handed over, with rows of a
   // location then back in WM, which would only be found stale when it next leaves.
   LocationId reading_ = kNoLocation;
-  std::list<LocationId> read_order_;  // of read_, oldest first
-  std::map<LocationId, Kept> read_;
-  size_t read_bytes_ = 0;
+  OldestFirstCache<LocationId, PrefetchedRows> read_;  // read, not handed over yet
   long long rows_read_ = 0;
   bool held_ = false;
   bool stopping_ = false;
