@@ -54,7 +54,7 @@ TEST_F(CliTest, PresetChoosesTheStartingValues) {
       Memloop("run " + Images() + " --preset paper2011 --set memory.time_limit_ms=0 --db " + db);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const memloop::Options map = memloop::ReadMapOptions(db);
-  EXPECT_EQ(map.filter.hypothesis_value, "neighbours");
+  EXPECT_EQ(map.filter.hypothesis_value, "best_neighbours");
   EXPECT_EQ(map.memory.stm_size, 25);
   EXPECT_EQ(map.memory.time_limit_ms, 0);
   const std::string other = dir_.File("other.db");
@@ -78,7 +78,7 @@ TEST_F(CliTest, ConfigFileGoesBetweenPresetAndSet) {
   EXPECT_EQ(map.dictionary.seed, 1234567);
   EXPECT_EQ(map.filter.loop_threshold, 0.123456789);
   EXPECT_EQ(map.filter.require_support, 0);
-  EXPECT_EQ(map.filter.hypothesis_value, "neighbours");  // the preset's, untouched
+  EXPECT_EQ(map.filter.hypothesis_value, "best_neighbours");  // the preset's, untouched
   std::ofstream(config) << "memory.stm_size = 12\nmemory.stm = 3\n";
   const Outcome bad =
       Memloop("run " + Images() + " --config " + config + " --db " + dir_.File("bad.db"));
@@ -251,6 +251,57 @@ std::string WithField(const std::string& csv, int row, int field, const std::str
     out += line + "\n";
   }
   return out;
+}
+
+// --ignored-as-true: a ground truth whose every loop is marked ignored (2 in a text matrix)
+// scores nothing strictly, and with the flag exactly what the loops themselves score.
+TEST_F(CliTest, EvalIgnoredAsTrueCountsIgnoredPairsAsLoops) {
+  const std::string csv_path = dir_.File("lenient.csv");
+  ASSERT_EQ(
+      Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv_path).exit_code, 0);
+  const std::string pairs = folder_->File("ground_truth_pairs.csv");
+  const int images = static_cast<int>(std::distance(std::filesystem::directory_iterator(Images()),
+                                                    std::filesystem::directory_iterator()));
+  std::vector<std::string> matrix(images, std::string(2 * images, ' '));
+  for (auto& row : matrix) {
+    for (int column = 0; column < images; ++column) row[2 * column] = '0';
+  }
+  std::ifstream in(pairs);
+  std::string line;
+  std::getline(in, line);  // query,match: "80.png,1.png", image k is "k+1.png"
+  int pair_count = 0;
+  for (; std::getline(in, line); ++pair_count) {
+    const int query = std::stoi(line.substr(0, line.find('.'))) - 1;
+    const int match = std::stoi(line.substr(line.find(',') + 1)) - 1;
+    matrix[query][2 * match] = '2';
+  }
+  ASSERT_GT(pair_count, 0);
+  std::ofstream out(dir_.File("ignored.txt"));
+  for (const auto& row : matrix) out << row << "\n";
+  out.close();
+  const auto recall_line = [](const std::string& output) {
+    const size_t at = output.find("recall at 100% precision");
+    return output.substr(at, output.find('\n', at) - at);
+  };
+  const Outcome loops = Memloop("eval " + csv_path + " " + pairs);
+  const Outcome strict = Memloop("eval " + csv_path + " " + dir_.File("ignored.txt"));
+  const Outcome lenient =
+      Memloop("eval " + csv_path + " " + dir_.File("ignored.txt") + " --ignored-as-true");
+  ASSERT_EQ(loops.exit_code, 0) << loops.output;
+  ASSERT_EQ(strict.exit_code, 0) << strict.output;
+  ASSERT_EQ(lenient.exit_code, 0) << lenient.output;
+  EXPECT_TRUE(Contains(strict.output, "0 pairs, 0 images with a loop")) << strict.output;
+  EXPECT_TRUE(Contains(strict.output, "recall at 100% precision: 0.0%")) << strict.output;
+  EXPECT_TRUE(Contains(lenient.output, "(ignored pairs counted as loops)")) << lenient.output;
+  EXPECT_NE(recall_line(loops.output), "recall at 100% precision: 0.0% (hypotheses >= 0 accepted)");
+  EXPECT_EQ(recall_line(lenient.output), recall_line(loops.output)) << lenient.output;
+  const Outcome json =
+      Memloop("eval " + csv_path + " " + dir_.File("ignored.txt") + " --ignored-as-true --json");
+  EXPECT_TRUE(Contains(json.output, "\"ignored_as_true\": true")) << json.output;
+  const Outcome report = Memloop("report " + csv_path + " " + dir_.File("ignored.txt") +
+                                 " --ignored-as-true --out " + dir_.File("lenient.html"));
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  EXPECT_TRUE(Contains(ReadFile(dir_.File("lenient.html")), "ignored pairs counted as loops"));
 }
 
 TEST_F(CliTest, EvalRefusesMalformedRunCsvsWithOneLine) {

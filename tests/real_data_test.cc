@@ -58,6 +58,7 @@ namespace {
 
 struct DataSetRun {
   RunEvaluation evaluation;
+  RunEvaluation lenient;  // ignored pairs counted as loops (eval --ignored-as-true)
   int images = 0;
 };
 
@@ -83,17 +84,21 @@ DataSetRun RunDataSet(const std::string& name, Options options) {
   const GroundTruth truth =
       GroundTruth::Load(folder + "/ground_truth.bmp", GroundTruthFormat::kAuto, {}, run.images);
   run.evaluation = EvaluateRun(rows, truth);
+  run.lenient = EvaluateRun(rows, truth.IgnoredAsLoops());
   return run;
 }
 
 // Issue 8's floors with the default parameters, a margin under what docs/real-data.md measured
 // (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82-89%, tum_fr1_rpy 29.5-29.8%,
-// corridor 11.7% since its 160x120 images are enlarged 2x, features.min_image_side), and no
-// false positive at the default T_loop. corridor's floor is wide: its recall moved between 0%
-// and 4.5% with the forest's random splits alone before the enlargement.
+// corridor 11.7% since its 160x120 images are enlarged 2x, features.min_image_side, lip6_outdoor
+// 48.8%), and no false positive at the default T_loop. corridor's floor is wide: its recall moved
+// between 0% and 4.5% with the forest's random splits alone before the enlargement.
 TEST(RealDataTest, RecallFloorsOnEverySharedDataSet) {
-  const std::map<std::string, double> floors = {
-      {"rtabmap_samples", 0.95}, {"gp_walk_a", 0.77}, {"tum_fr1_rpy", 0.20}, {"corridor", 0.05}};
+  const std::map<std::string, double> floors = {{"rtabmap_samples", 0.95},
+                                                {"gp_walk_a", 0.77},
+                                                {"tum_fr1_rpy", 0.20},
+                                                {"corridor", 0.05},
+                                                {"lip6_outdoor", 0.45}};
   int present = 0;
   for (const auto& [name, floor] : floors) {
     if (!std::filesystem::exists(std::string(MEMLOOP_DATASETS) + "/" + name + "/images")) continue;
@@ -138,19 +143,23 @@ TEST(RealDataTest, OrbOnTumRpyUnderAQuarterOfWmAcceptsNoFalsePositive) {
   EXPECT_GE(run.evaluation.recall_at_full_precision, 0.30);
 }
 
-// --preset paper2011 keeps the paper's mechanisms and their figures on rtabmap_samples: 38 of 44
-// loop images at T_loop (40 when the forest was rebuilt inside the iteration,
-// dictionary.rebuild_delay=0), none false, and every one at 100% precision once the curve sweeps
-// only eligible hypotheses (issue 8 measured 97.7% when it also counted those below T_minHyp).
-TEST(RealDataTest, Paper2011PresetKeepsItsRtabmapSamplesResult) {
-  if (!std::filesystem::exists(kSamples + "/images")) {
-    GTEST_SKIP() << kSamples << " is absent (it ships beside the project, not in it)";
+// --preset paper2011 on the paper's own data (Table 1, Lip6Outdoor: 77% with its labels). With the
+// text alone it found 2.0% (strict) / 2.7% (ignored pairs as loops); with the 2011 code's choices
+// where the text is silent (the ratio test on squared distances, its SURF and kd-tree settings,
+// the highest neighbour sum, LoopRatio) 54.2% / 77.4%, with no false positive (docs/design.md).
+TEST(RealDataTest, Paper2011PresetReproducesTable1OnLip6Outdoor) {
+  if (!std::filesystem::exists(std::string(MEMLOOP_DATASETS) + "/lip6_outdoor/images")) {
+    GTEST_SKIP() << MEMLOOP_DATASETS << "/lip6_outdoor is absent (it ships beside the project)";
   }
-  const DataSetRun run = RunDataSet("rtabmap_samples", Options::Paper2011());
-  EXPECT_EQ(run.images, 84);
-  EXPECT_DOUBLE_EQ(run.evaluation.recall_at_full_precision, 1.0);
-  EXPECT_GE(run.evaluation.accepted.true_positives, 38);
+  const DataSetRun run = RunDataSet("lip6_outdoor", Options::Paper2011());
+  EXPECT_EQ(run.images, 531);
+  EXPECT_GE(run.lenient.recall_at_full_precision, 0.70);
+  EXPECT_GE(run.evaluation.recall_at_full_precision, 0.48);
   EXPECT_EQ(run.evaluation.accepted.false_positives, 0);
+  EXPECT_GE(run.lenient.accepted.true_positives, 200);  // 227 accepted at T_loop 0.10, all true
+  std::cout << "lip6_outdoor, paper2011: recall at 100% precision "
+            << run.evaluation.recall_at_full_precision << " strict, "
+            << run.lenient.recall_at_full_precision << " lenient\n";
 }
 
 }  // namespace

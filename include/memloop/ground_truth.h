@@ -39,6 +39,10 @@ class GroundTruth {
   // True when `query` shows the same place as an earlier image.
   bool HasEarlierMatch(ImageIndex query) const;
   int PairCount() const;  // loop pairs (a > b)
+  // The same matrix with every ignored pair made a loop: the protocol of the paper's own 2011
+  // scripts, where a detection within the ignored band counts as correct and an image whose only
+  // matches are ignored counts as one with a loop (`memloop eval --ignored-as-true`).
+  GroundTruth IgnoredAsLoops() const;
 
  private:
   cv::Mat labels_;

@@ -30,6 +30,13 @@ struct FeatureOptions {
   // 1: U-SURF, no orientation (memloop's default: a robot's camera does not roll, and rolled views
   // of one spot are not the same place; the paper's SURF is 0). docs/real-data.md measures it.
   int surf_upright = 1;
+  // U-SURF: when the image's edges say the camera is rolled (camera_roll.h) by at most this many
+  // degrees, every keypoint is described in the rolled frame instead of at angle 0 (0: off).
+  double surf_max_roll_degrees = 0;
+  double surf_min_roll_strength = 0.05;  // the roll estimate's strength needed (0..1)
+  // With surf_max_roll_degrees: a loop closure is refused when the two images' rolls differ by
+  // more than this (0: no check).
+  double surf_max_roll_difference_degrees = 0;
   // The same for OpenCV's SIFT and ORB: 1 describes every keypoint at angle 0 (memloop; OpenCV's
   // own detectors orient them, as Options::Paper2011() keeps). On the hand-held tum_fr1_rpy,
   // oriented SIFT and ORB match rolled views the ground truth calls different (docs/real-data.md).
@@ -77,6 +84,10 @@ struct MemoryOptions {
   int stm_size = 20;
   // T_rehearsal: similarity (eq. 1) above which L_c is merged into L_t (paper III-B).
   double rehearsal_threshold = 0.20;
+  // 0: L_t is compared with STM from the newest location back and merged with the first above
+  // T_rehearsal (the paper's text, III-B). 1: compared with every STM location and merged with the
+  // most similar, if above T_rehearsal (the paper's 2011 code, Memory::rehearsal).
+  int rehearsal_most_similar = 0;
   // T_time in milliseconds: iteration time above which locations are transferred from WM to LTM
   // (paper III-F). The paper's guideline is 200-400 ms under the image period: 700 ms at 1 Hz.
   // 0 disables the time limit (T_time = infinity); the result then depends on the machine's
@@ -172,10 +183,21 @@ struct FilterOptions {
   // mu/sigma + 1 is continuous as sigma -> 0 (at most 1/ratio + 1 = 51). 0: the paper as written
   // (sigma = 0 gives 2, near ties give any value). docs/design.md has the measurements.
   double min_sigma_ratio = 0.02;
+  // Eq. 4 when no score stands out (no s_j >= mu + sigma, or sigma ~ 0): p(L_t | S_t = -1) is
+  // set to this instead of mu/sigma + 1 (the paper's 2011 code, Rtabmap::adjustLikelihood: 2).
+  // 0: eq. 4 as written whatever the scores.
+  double no_signal_virtual_place = 0;
   // The hypothesis' value compared with T_loop (III-D): "neighbours", the posterior summed over
   // the highest hypothesis' neighbourhood (the paper), or "loop_mass", 1 - p(S_t = -1), the
   // probability that L_t closes a loop anywhere in WM (RTAB-Map since 2013).
+  // "best_neighbours": the paper's 2011 code (Rtabmap::selectHypotheses): the highest of the
+  // neighbour sums over every WM location, named by the highest posterior inside that sum.
   std::string hypothesis_value = "loop_mass";
+  // LoopRatio of the paper's 2011 code: a hypothesis is accepted only when its value is at least
+  // this times the previous image's highest hypothesis value (and that one was not 0), so that a
+  // loop closure is accepted on a rising or steady hypothesis, not on the first image of one.
+  // 0: off (the paper's text; memloop).
+  double loop_ratio = 0;
   // Scores of L_t against WM (III-C): "similarity", eq. 1 (the paper), or "tfidf", the sum over
   // shared words of n_wj / n_j * log10(N / n_w) (RTAB-Map since 2013).
   std::string likelihood = "similarity";

@@ -16,7 +16,8 @@ namespace memloop {
 
 struct ReportOptions {
   std::string title = "memloop run";
-  double time_limit_ms = 0;  // T_time of the run, drawn when > 0
+  double time_limit_ms = 0;      // T_time of the run, drawn when > 0
+  bool ignored_as_true = false;  // the ground truth was made GroundTruth::IgnoredAsLoops(): said so
 };
 
 // The page as text. Throws Error when gnuplot cannot draw.

@@ -1,5 +1,6 @@
 #include "memloop/detector.h"
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
@@ -331,16 +332,17 @@ class Detector::Impl {
   void Rehearse(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.rehearsal_ms);
     const RehearsalOutcome outcome =
-        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_);
+        memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_,
+                          options_.memory.rehearsal_most_similar != 0);
     result.rehearsal_merged_id = outcome.merged_id;
   }
 
   Likelihood ComputeObservation(const Signature& z_t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    return ComputeLikelihood(options_.filter.likelihood == "tfidf"
-                                 ? ScoreWorkingMemoryTfIdf(z_t, memory_)
-                                 : ScoreWorkingMemory(z_t, memory_),
-                             options_.filter.min_sigma_ratio);
+    return ComputeLikelihood(
+        options_.filter.likelihood == "tfidf" ? ScoreWorkingMemoryTfIdf(z_t, memory_)
+                                              : ScoreWorkingMemory(z_t, memory_),
+        options_.filter.min_sigma_ratio, options_.filter.no_signal_virtual_place);
   }
 
   // The neighbourhoods stay valid until the next image's UpdateFilter.
@@ -359,6 +361,10 @@ class Detector::Impl {
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
     RequireSupport(z_t, likelihood, hypothesis);
+    RequireSimilarRoll(z_t, hypothesis);
+    // Not in the checkpoint: after a resume the first image has no previous value (refused).
+    RequireLoopRatio(previous_hypothesis_value_, options_.filter.loop_ratio, hypothesis);
+    if (hypothesis.id != kNoLocation) previous_hypothesis_value_ = hypothesis.value;
     CheckLtmNeighbours(appearance, hypothesis);
     Verify(z_t, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
@@ -395,6 +401,22 @@ class Detector::Impl {
     const auto value = likelihood.values.find(hypothesis.id);
     if (value != likelihood.values.end() && value->second > 1.0) return;
     hypothesis.Refuse();
+  }
+
+  // Roll-compensated U-SURF describes every keypoint of an image at the image's roll, which its
+  // keypoints' angle keeps: two views rolled apart further than surf.max_roll_difference_degrees
+  // are not taken for one place.
+  void RequireSimilarRoll(const Signature& z_t, Hypothesis& hypothesis) const {
+    const FeatureOptions& features = options_.features;
+    if (features.type != "surf" || !features.surf_upright || features.surf_max_roll_degrees <= 0 ||
+        features.surf_max_roll_difference_degrees <= 0 || hypothesis.id == kNoLocation) {
+      return;
+    }
+    const Signature& z_i = memory_.at(hypothesis.id).signature;
+    if (z_t.keypoints.empty() || z_i.keypoints.empty()) return;
+    double difference = std::fabs(z_t.keypoints[0].angle - z_i.keypoints[0].angle);
+    difference = std::min(difference, 360 - difference);
+    if (difference > features.surf_max_roll_difference_degrees) hypothesis.Refuse();
   }
 
   // filter.ltm_neighbour_check (hypothesis.h), at every image: the filter weighs WM alone, and a
@@ -572,6 +594,7 @@ class Detector::Impl {
   CheckpointWriter checkpoints_;
   bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
+  double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
   bool closed_ = false;
 };

@@ -2,6 +2,28 @@
 
 namespace memloop {
 
+namespace {
+
+// The posterior summed over `id`'s neighbourhood (the transition model's range); with `centre`,
+// the neighbour of highest posterior inside it (ties: the older).
+double NeighbourSum(LocationId id, const IdMap<double>& posterior,
+                    const Neighbourhoods& neighbourhoods, int range, LocationId* centre = nullptr) {
+  double sum = 0, highest = -1;
+  for (const auto& [neighbour, distance] : neighbourhoods.at(id)) {
+    if (distance > range) continue;
+    const auto found = posterior.find(neighbour);
+    if (found == posterior.end()) continue;
+    sum += found->second;
+    if (centre == nullptr) continue;
+    if (found->second > highest || (found->second == highest && neighbour < *centre)) {
+      highest = found->second, *centre = neighbour;
+    }
+  }
+  return sum;
+}
+
+}  // namespace
+
 Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options) {
   Hypothesis best;
@@ -13,18 +35,27 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
     }
   }
   if (best.id == kNoLocation) return best;
+  const int range = options.neighbour_range;
   if (options.hypothesis_value == "loop_mass") {
     best.value = 1.0 - virtual_place;
-  } else {
-    for (const auto& [neighbour, distance] : neighbourhoods.at(best.id)) {
-      if (distance > options.neighbour_range) continue;
-      const auto found = posterior.find(neighbour);
-      if (found != posterior.end()) best.value += found->second;
+  } else if (options.hypothesis_value == "best_neighbours") {
+    best.value = -1;
+    for (const auto& [id, own] : posterior) {
+      LocationId centre = id;
+      const double sum = NeighbourSum(id, posterior, neighbourhoods, range, &centre);
+      if (sum > best.value) best.value = sum, best.id = centre;  // ties: the older sum
     }
+  } else {
+    best.value = NeighbourSum(best.id, posterior, neighbourhoods, range);
   }
   best.eligible = static_cast<int>(posterior.size()) >= options.min_hypotheses;
   best.accepted = best.eligible && best.value > options.loop_threshold;
   return best;
+}
+
+void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis) {
+  if (ratio <= 0 || hypothesis.id == kNoLocation) return;
+  if (previous_value <= 0 || hypothesis.value < ratio * previous_value) hypothesis.Refuse();
 }
 
 void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,

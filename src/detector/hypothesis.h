@@ -26,9 +26,16 @@ struct Hypothesis {
 // reads as "the highest of the neighbour sums"; that choice names the centre of the probability
 // mass rather than the best match, so matches lag behind along a path (RTAB-Map, by the same
 // authors, sums around the highest posterior, as here).
+// With hypothesis_value "best_neighbours" (the paper's 2011 code) the neighbour sum of every WM
+// location is computed and the highest is the value; the hypothesis is the location of highest
+// posterior inside that neighbourhood.
 // With hypothesis_value "loop_mass" the value is instead 1 - p(S_t = -1) (`virtual_place`).
 Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place,
                             const Neighbourhoods& neighbourhoods, const FilterOptions& options);
+
+// filter.loop_ratio (the paper's 2011 code, LoopRatio): the hypothesis is refused unless its value
+// is at least `ratio` times the previous image's highest hypothesis value, which must not be 0.
+void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis);
 
 // filter.min_shared_words (memloop): L_i is refused when the image `z_t` shares fewer than
 // `min_words` words with it (eq. 1's N_pair, `z_i`). When an image matches almost nothing, mu and

@@ -125,5 +125,53 @@ TEST(HypothesisTest, AnLtmNeighbourThatLooksMoreLikeTheImageRefuses) {
   EXPECT_TRUE(hypothesis.accepted);
 }
 
+// hypothesis_value "best_neighbours" (the paper's 2011 code): every location's neighbour sum.
+TEST(HypothesisTest, BestNeighboursTakesTheHighestSumNamedByItsHighestPosterior) {
+  // 1-2-3-4 as Graph(), 5-6 apart: posterior 0.2, 0.02, 0.02, 0.02 | 0.3, 0.25.
+  Neighbourhoods graph = Graph();
+  graph.erase(10);
+  graph[5] = {{5, 0}, {6, 1}};
+  graph[6] = {{6, 0}, {5, 1}};
+  const IdMap<double> posterior = {{1, 0.2}, {2, 0.02}, {3, 0.02}, {4, 0.02}, {5, 0.3}, {6, 0.25}};
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 1;
+  options.neighbour_range = 1;
+  // Sums within 1 link: 1: 0.22, 2: 0.24, 3: 0.06, 4: 0.04, 5 and 6: 0.55 (5 the older).
+  Hypothesis hypothesis = SelectHypothesis(posterior, 0.5, graph, options);
+  EXPECT_EQ(hypothesis.id, 5);
+  EXPECT_NEAR(hypothesis.value, 0.55, 1e-12);
+  // Location 6 alone at 0.31 over 5's 0.3: the highest posterior is 6 and names the sum.
+  graph[5] = {{5, 0}};
+  graph[6] = {{6, 0}};
+  graph[2] = {{2, 0}, {1, 1}, {3, 1}};
+  const IdMap<double> spread = {{1, 0.2}, {2, 0.19}, {3, 0.19}, {4, 0.0}, {5, 0.0}, {6, 0.31}};
+  options.hypothesis_value = "best_neighbours";
+  hypothesis = SelectHypothesis(spread, 0.5, graph, options);
+  EXPECT_EQ(hypothesis.id, 1);                 // the sum around 2 (0.58), named by 1 (0.2)
+  EXPECT_NEAR(hypothesis.value, 0.58, 1e-12);  // 0.2 + 0.19 + 0.19
+  options.hypothesis_value = "neighbours";     // around the highest posterior, 6: 0.31
+  hypothesis = SelectHypothesis(spread, 0.5, graph, options);
+  EXPECT_EQ(hypothesis.id, 6);
+  EXPECT_NEAR(hypothesis.value, 0.31, 1e-12);
+}
+
+// filter.loop_ratio (the paper's 2011 code, LoopRatio 0.9).
+TEST(HypothesisTest, LoopRatioRefusesAHypothesisBelowTheRatioOfThePreviousOne) {
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 5;
+  Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);  // 0.47
+  RequireLoopRatio(0.52, 0.9, hypothesis);  // 0.47 >= 0.9 * 0.52 = 0.468
+  EXPECT_TRUE(hypothesis.accepted);
+  RequireLoopRatio(0.53, 0.9, hypothesis);  // 0.47 < 0.477
+  EXPECT_FALSE(hypothesis.accepted);
+  EXPECT_FALSE(hypothesis.eligible);
+  hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  RequireLoopRatio(0.0, 0.9, hypothesis);  // no previous hypothesis: refused
+  EXPECT_FALSE(hypothesis.accepted);
+  hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  RequireLoopRatio(0.0, 0.0, hypothesis);  // off
+  EXPECT_TRUE(hypothesis.accepted);
+}
+
 }  // namespace
 }  // namespace memloop

@@ -44,7 +44,8 @@ IdMap<double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory
   return scores;
 }
 
-Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio) {
+Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio,
+                             double no_signal_virtual_place) {
   Likelihood likelihood;
   likelihood.scores = scores;
   double sum = 0;
@@ -68,14 +69,20 @@ Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio
   const double sigma =
       non_null >= 2 ? std::max(likelihood.stddev, min_sigma_ratio * mu) : likelihood.stddev;
   likelihood.values.reserve(scores.size());
+  bool stands_out = false;
   for (const auto& [id, score] : scores) {
     // Eq. 3. A non-null score with sigma = 0 equals mu, so (s - sigma) / mu = 1 too.
-    likelihood.values.emplace_hint(likelihood.values.end(), id,
-                                   (score > 0 && score >= mu + sigma) ? (score - sigma) / mu : 1.0);
+    const bool above = score > 0 && score >= mu + sigma;
+    stands_out = stands_out || (above && sigma > 0);
+    likelihood.values.emplace_hint(likelihood.values.end(), id, above ? (score - sigma) / mu : 1.0);
   }
   // Eq. 4; mu/sigma is taken as 1 where sigma cannot be estimated (fewer than 2 non-null scores)
   // or, as written (ratio 0), is 0.
   likelihood.virtual_place = (sigma > 0 ? mu / sigma : 1.0) + 1.0;
+  constexpr double kSigmaEpsilon = 1e-4;  // the 2011 code's
+  if (no_signal_virtual_place > 0 && (!stands_out || sigma <= kSigmaEpsilon)) {
+    likelihood.virtual_place = no_signal_virtual_place;
+  }
   return likelihood;
 }
 

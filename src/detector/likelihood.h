@@ -33,6 +33,11 @@ IdMap<double> ScoreWorkingMemoryTfIdf(const Signature& z_t, const Memory& memory
 // With fewer than 2 non-null scores sigma cannot be estimated and mu/sigma is taken as 1 (the
 // virtual place's likelihood is 2). With ratio 0 (the paper as written, RTAB-Map's convention),
 // sigma = 0 gives 2 and near ties give anything up to infinity.
-Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio = 0);
+// With `no_signal_virtual_place` > 0, the virtual place's likelihood is that value whenever no
+// score stands out (no s_j >= mu + sigma) or sigma is under 1e-4 (the paper's 2011 code: 2), so
+// that an image that matches nothing in particular does not push the filter toward a new place
+// by mu/sigma, which is then the spread of noise.
+Likelihood ComputeLikelihood(const IdMap<double>& scores, double min_sigma_ratio = 0,
+                             double no_signal_virtual_place = 0);
 
 }  // namespace memloop

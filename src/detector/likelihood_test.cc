@@ -81,5 +81,24 @@ TEST(LikelihoodTest, TfIdfScoresByHand) {
   EXPECT_DOUBLE_EQ(scores.at(ids[2]), 0.0);
 }
 
+// filter.no_signal_virtual_place (the paper's 2011 code): 2 when no score stands out.
+TEST(LikelihoodTest, NoSignalVirtualPlace) {
+  // Scores 0.1, 0.2, 0.3: mu 0.2, sigma 0.0816 (population); 0.3 >= mu + sigma = 0.2816 stands
+  // out, so eq. 4 stands: 0.2 / 0.0816 + 1 = 3.449.
+  const Likelihood signal = ComputeLikelihood({{1, 0.1}, {2, 0.2}, {3, 0.3}}, 0, 2.0);
+  EXPECT_NEAR(signal.virtual_place, 0.2 / 0.081649658092772603 + 1, 1e-9);
+  // Scores 0.1, 0.1, 0.1, 0.2: mu 0.125, sigma 0.0433; 0.2 >= 0.1683 stands out: eq. 4, 3.887.
+  // Scores 0.1, 0.2 (two): mu 0.15, sigma 0.05; 0.2 >= 0.2 stands out too. One standing out is
+  // enough; none standing out: 0.1, 0.1 gives sigma 0 (tie), the value 2 whatever eq. 4 says.
+  const Likelihood tie = ComputeLikelihood({{1, 0.1}, {2, 0.1}}, 0.1, 2.5);
+  EXPECT_DOUBLE_EQ(tie.virtual_place, 2.5);  // without it: 1 / 0.1 + 1 = 11
+  EXPECT_DOUBLE_EQ(ComputeLikelihood({{1, 0.1}, {2, 0.1}}, 0.1).virtual_place, 11.0);
+  // Nothing scored: no signal either.
+  EXPECT_DOUBLE_EQ(ComputeLikelihood({{1, 0.0}, {2, 0.0}}, 0, 2.0).virtual_place, 2.0);
+  // The likelihoods of the locations are eq. 3's whatever the option.
+  EXPECT_NEAR(signal.values.at(3), (0.3 - 0.081649658092772603) / 0.2, 1e-9);
+  EXPECT_DOUBLE_EQ(signal.values.at(1), 1.0);
+}
+
 }  // namespace
 }  // namespace memloop

@@ -66,6 +66,12 @@ std::vector<Parameter> MakeRegistry() {
         .Help("ORB: true describes every keypoint at angle 0 (upright, not rotation invariant); false = OpenCV's orientation"),
     Param("surf.upright", MEMLOOP_FIELD(features.surf_upright)).Flag()
         .Help("SURF: true for U-SURF (no orientation: faster, not rotation invariant)"),
+    Param("surf.max_roll_degrees", MEMLOOP_FIELD(features.surf_max_roll_degrees)).Unit("degrees").Range(0, 45)
+        .Help("U-SURF: an image whose edges show the camera rolled by at most this is described in the rolled frame (0 = at angle 0)"),
+    Param("surf.min_roll_strength", MEMLOOP_FIELD(features.surf_min_roll_strength)).Range(0, 1)
+        .Help("U-SURF with surf.max_roll_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
+    Param("surf.max_roll_difference_degrees", MEMLOOP_FIELD(features.surf_max_roll_difference_degrees)).Unit("degrees").Range(0, 90)
+        .Help("U-SURF with surf.max_roll_degrees: refuse a loop closure between images whose estimated rolls differ by more than this (0 = no check)"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
         .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
     Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
@@ -90,6 +96,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("STM size").Help("Newest locations kept out of loop closure detection"),
     Param("memory.rehearsal_threshold", MEMLOOP_FIELD(memory.rehearsal_threshold)).Range(0, 1)
         .Symbol("T_rehearsal (eq. 1)").Help("Similarity above which the compared STM location is merged"),
+    Param("memory.rehearsal_most_similar", MEMLOOP_FIELD(memory.rehearsal_most_similar)).Flag()
+        .Symbol("III-B").Help("true: L_t is compared with every STM location and merged with the most similar one above T_rehearsal (the paper's 2011 code); false: newest first, the first above it (the paper's text)"),
     Param("memory.time_limit_ms", MEMLOOP_FIELD(memory.time_limit_ms)).Unit("ms").Range(0, kHuge)
         .Symbol("T_time").Help("Iteration time above which WM locations go to LTM (0 = infinity)"),
     Param("memory.time_target", MEMLOOP_FIELD(memory.time_target)).Range(0.05, 1)
@@ -137,8 +145,12 @@ std::vector<Parameter> MakeRegistry() {
         .AboveRange(0, 100).Help("Standard deviation of the transition model's discretized Gaussian"),
     Param("filter.min_sigma_ratio", MEMLOOP_FIELD(filter.min_sigma_ratio)).Range(0, 10)
         .Symbol("eq. 3-4").Help("sigma is at least this fraction of mu, so mu/sigma+1 stays continuous and at most 1/ratio+1 (0 = as written: sigma=0 gives 2)"),
-    Param("filter.hypothesis_value", MEMLOOP_FIELD(filter.hypothesis_value)).Choices({"neighbours", "loop_mass"})
-        .Symbol("III-D").Help("Value compared with T_loop: neighbours (posterior summed around the highest hypothesis, the paper) or loop_mass (1 - p(virtual place))"),
+    Param("filter.no_signal_virtual_place", MEMLOOP_FIELD(filter.no_signal_virtual_place)).Range(0, 1000)
+        .Symbol("eq. 4").Help("p(L_t|S_t=-1) when no score stands out (none >= mu+sigma, or sigma ~ 0), instead of mu/sigma+1 (the paper's 2011 code: 2; 0 = eq. 4 as written)"),
+    Param("filter.hypothesis_value", MEMLOOP_FIELD(filter.hypothesis_value)).Choices({"neighbours", "best_neighbours", "loop_mass"})
+        .Symbol("III-D").Help("Value compared with T_loop: neighbours (posterior summed around the highest hypothesis, the paper), best_neighbours (the highest neighbour sum over WM, named by its highest posterior: the paper's 2011 code) or loop_mass (1 - p(virtual place))"),
+    Param("filter.loop_ratio", MEMLOOP_FIELD(filter.loop_ratio)).Range(0, 10)
+        .Help("Accept a hypothesis only when its value is at least this times the previous image's highest hypothesis value, itself not 0 (the paper's 2011 code: 0.9; 0 = off)"),
     Param("filter.likelihood", MEMLOOP_FIELD(filter.likelihood)).Choices({"similarity", "tfidf"})
         .Symbol("eq. 1 / III-C").Help("Score of L_t against each WM location: similarity (eq. 1, the paper) or tfidf (shared words weighted by log(N/n_w))"),
     Param("filter.require_support", MEMLOOP_FIELD(filter.require_support)).Flag()

@@ -2,17 +2,18 @@
 
 namespace memloop {
 
-RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor) {
+RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor,
+                          bool most_similar) {
   RehearsalOutcome outcome;
   const auto& stm = memory.stm();
   for (auto candidate = stm.rbegin(); candidate != stm.rend(); ++candidate) {
     if (*candidate == new_id) continue;
     const double similarity =
         Similarity(memory.at(new_id).signature, memory.at(*candidate).signature);  // eq. 1
-    if (similarity <= threshold) continue;
+    if (similarity <= threshold || similarity <= outcome.similarity) continue;
     outcome.merged_id = *candidate;
     outcome.similarity = similarity;
-    break;  // "Rehearsal stops"
+    if (!most_similar) break;  // "Rehearsal stops"
   }
   if (outcome.merged_id == kNoLocation) return outcome;
 

@@ -1,5 +1,7 @@
 // Rehearsal (paper III-B): the new location is compared with the STM locations, most recent
-// first; the first whose similarity (eq. 1) exceeds T_rehearsal is merged into it.
+// first; the first whose similarity (eq. 1) exceeds T_rehearsal is merged into it. With
+// `most_similar` (memory.rehearsal_most_similar, the paper's 2011 code) every STM location is
+// compared and the most similar one is merged, if above T_rehearsal (ties: the newest).
 #pragma once
 
 #include <vector>
@@ -18,6 +20,7 @@ struct RehearsalOutcome {
 // z_t is cleared and z_c copied into it, weight_t += weight_c + 1, L_c's links go to L_t and
 // L_c is deleted from STM (through `editor`, which keeps LTM, the dictionary and the filter in
 // agreement).
-RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor);
+RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, MapEditor& editor,
+                          bool most_similar = false);
 
 }  // namespace memloop

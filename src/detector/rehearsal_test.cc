@@ -32,6 +32,27 @@ TEST(RehearsalTest, MergesTheMostRecentSimilarLocationAsThePaperSays) {
   EXPECT_EQ(memory.dictionary().References(4).at(ids[2]), 1);
 }
 
+// memory.rehearsal_most_similar (the paper's 2011 code): every STM location is compared.
+TEST(RehearsalTest, MostSimilarMergesTheBestNotTheNewestAboveTheThreshold) {
+  testing::SmallMap map;
+  Memory& memory = map.memory;
+  // L1 {1,2,3,4}; L2 {5,6,8,9}; L_t {1,2,3,5,7}: s(L_t, L1) = 3/5 = 0.6, s(L_t, L2) = 1/5 = 0.2.
+  // L3 {1,5,10,11}: s(L_t, L3) = 2/5 = 0.4, the newest above 0.2, is what the text merges.
+  const auto ids =
+      testing::AddChain(memory, {{1, 2, 3, 4}, {5, 6, 8, 9}, {1, 5, 10, 11}, {1, 2, 3, 5, 7}});
+  testing::SmallMap text_map;
+  const auto text_ids = testing::AddChain(
+      text_map.memory, {{1, 2, 3, 4}, {5, 6, 8, 9}, {1, 5, 10, 11}, {1, 2, 3, 5, 7}});
+  EXPECT_EQ(Rehearse(text_ids[3], 0.2, text_map.memory, text_map.editor).merged_id, text_ids[2]);
+
+  const RehearsalOutcome outcome = Rehearse(ids[3], 0.2, memory, map.editor, true);
+  EXPECT_EQ(outcome.merged_id, ids[0]);
+  EXPECT_DOUBLE_EQ(outcome.similarity, 0.6);
+  EXPECT_EQ(memory.at(ids[3]).signature.words, (std::vector<WordId>{1, 2, 3, 4}));
+  EXPECT_FALSE(memory.Contains(ids[0]));
+  EXPECT_TRUE(map.CheckConsistencyEmpty());
+}
+
 TEST(RehearsalTest, NothingMergedAtOrBelowTheThreshold) {
   testing::SmallMap map;
   Memory& memory = map.memory;
@@ -39,6 +60,7 @@ TEST(RehearsalTest, NothingMergedAtOrBelowTheThreshold) {
   const auto ids = testing::AddChain(memory, {{1, 2, 3, 4, 5}, {1, 6, 7, 8, 9}});
   const RehearsalOutcome outcome = Rehearse(ids[1], 0.2, memory, map.editor);
   EXPECT_EQ(outcome.merged_id, kNoLocation);
+  EXPECT_EQ(Rehearse(ids[1], 0.2, memory, map.editor, true).merged_id, kNoLocation);
   EXPECT_EQ(memory.size(), 2u);
   EXPECT_EQ(memory.at(ids[1]).weight, 0);
 }

@@ -144,5 +144,28 @@ TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   EXPECT_DOUBLE_EQ(e.max_iteration_ms, 60);
 }
 
+// --ignored-as-true (the paper's 2011 protocol): the same rows against SmallTruth() with its
+// ignored pair (6, 0) made a loop. Images with a loop: 3, 4, 5 and now 6.
+TEST(EvaluateRunTest, IgnoredAsTrueCountsTheIgnoredPairsAsLoops) {
+  const std::vector<RunRow> rows = {
+      Row(0, {}, 0, {}),      Row(1, {}, 0.05, {0}),        Row(2, {}, 0.30, {1}),
+      Row(3, {0}, 0.90, {0}), Row(4, {2, 1}, 0.50, {2, 1}), Row(5, {}, 0.30, {2}),
+      Row(6, {0}, 0.70, {0})};
+  const GroundTruth lenient = SmallTruth().IgnoredAsLoops();
+  EXPECT_EQ(lenient.At(6, 0), GroundTruth::kLoop);
+  EXPECT_EQ(lenient.At(0, 6), GroundTruth::kLoop);  // symmetric
+  EXPECT_EQ(lenient.At(6, 1), GroundTruth::kNone);
+  EXPECT_EQ(lenient.PairCount(), 4);
+  const RunEvaluation e = EvaluateRun(rows, lenient);
+  EXPECT_EQ(e.accepted.loop_images, 4);
+  EXPECT_EQ(e.accepted.true_positives, 3);  // 3, 4 and 6
+  EXPECT_EQ(e.accepted.ignored, 0);
+  EXPECT_DOUBLE_EQ(e.accepted.Recall(), 3.0 / 4);
+  // 0.9 (T), 0.7 (T), 0.5 (T): recall 3/4 at 100% precision; strict gave 2/3 at 0.5.
+  EXPECT_DOUBLE_EQ(e.recall_at_full_precision, 3.0 / 4);
+  EXPECT_DOUBLE_EQ(e.threshold_at_full_precision, 0.5);
+  EXPECT_DOUBLE_EQ(e.curve[1].recall, 2.0 / 4);
+}
+
 }  // namespace
 }  // namespace memloop

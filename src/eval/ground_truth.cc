@@ -196,6 +196,12 @@ bool GroundTruth::HasEarlierMatch(ImageIndex query) const {
   return false;
 }
 
+GroundTruth GroundTruth::IgnoredAsLoops() const {
+  cv::Mat labels = labels_.clone();
+  labels.setTo(kLoop, labels == kIgnored);
+  return GroundTruth(labels);
+}
+
 int GroundTruth::PairCount() const {
   int pairs = 0;
   for (int a = 0; a < size(); ++a) {

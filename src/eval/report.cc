@@ -175,13 +175,13 @@ std::string TimeBoundRows(const RunEvaluation& e) {
   return text;
 }
 
-std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth) {
+std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth, bool ignored_as_true) {
   char text[2048];
   std::snprintf(
       text, sizeof(text),
       "<table>\n"
       "<tr><th>images</th><td>%d</td></tr>\n"
-      "<tr><th>ground truth</th><td>%d pairs, %d images with a loop</td></tr>\n"
+      "<tr><th>ground truth</th><td>%d pairs, %d images with a loop%s</td></tr>\n"
       "<tr><th>loop closures accepted</th><td>%d (true %d, false %d, on ignored pairs "
       "%d)</td></tr>\n"
       "<tr><th>precision</th><td>%.1f%%</td></tr>\n"
@@ -194,6 +194,7 @@ std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth) {
       "%s"
       "</table>\n",
       e.images, truth.PairCount(), e.accepted.loop_images,
+      ignored_as_true ? " (ignored pairs counted as loops: --ignored-as-true)" : "",
       e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
       e.accepted.false_positives, e.accepted.ignored, 100 * e.accepted.Precision(),
       100 * e.accepted.Recall(), 100 * e.recall_at_full_precision, e.threshold_at_full_precision,
@@ -236,7 +237,7 @@ std::string MakeReport(const std::vector<RunRow>& rows, const GroundTruth& truth
       "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 4px 10px; "
       "text-align: left; }\n.figure { margin: 2em 0; }\n.caption { color: #555; }\n</style>\n"
       "</head>\n<body data-rendered=\"0\" data-errors=\"\">\n<h1>" +
-      Escape(options.title) + "</h1>\n" + SummaryTable(evaluation, truth);
+      Escape(options.title) + "</h1>\n" + SummaryTable(evaluation, truth, options.ignored_as_true);
   page += Figure("precision-recall", "Precision-recall curve",
                  "Every iteration's highest hypothesis, accepted when its value is at least the "
                  "threshold; the run's own operating point is marked.",

@@ -134,7 +134,8 @@ cv::Mat DescribeSurf(const IntegralImage& image, std::vector<cv::KeyPoint>& keyp
   cv::Mat descriptors(static_cast<int>(keypoints.size()), dim, CV_32F);
   for (size_t n = 0; n < keypoints.size(); ++n) {
     cv::KeyPoint& keypoint = keypoints[n];
-    const double angle = options.upright ? 0.0 : DominantOrientation(image, keypoint);
+    const double angle =
+        options.upright ? options.upright_angle : DominantOrientation(image, keypoint);
     double degrees = angle * 180 / kPi;
     if (degrees < 0) degrees += 360;
     keypoint.angle = static_cast<float>(degrees >= 360 ? 0 : degrees);

@@ -10,8 +10,9 @@
 namespace memloop {
 
 struct SurfDescriptorOptions {
-  bool upright = false;   // U-SURF: no orientation (angle 0)
-  bool extended = false;  // 128 values instead of 64
+  bool upright = false;      // U-SURF: no orientation (angle `upright_angle`)
+  double upright_angle = 0;  // radians: U-SURF's frame (the camera's roll, camera_roll.h)
+  bool extended = false;     // 128 values instead of 64
 };
 
 // Sec. 4.1: Haar responses of side 4s at the samples within 6s of the keypoint, weighted by a

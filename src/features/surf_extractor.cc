@@ -1,6 +1,9 @@
 #include "features/surf_extractor.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "features/camera_roll.h"
 
 namespace memloop {
 
@@ -11,6 +14,8 @@ SurfExtractor::SurfExtractor(const FeatureOptions& options) : max_features_(opti
   detector_.sample_step = options.surf_sample_step;
   descriptor_.upright = options.surf_upright != 0;
   descriptor_.extended = options.surf_extended != 0;
+  max_roll_radians_ = options.surf_max_roll_degrees * M_PI / 180;
+  min_roll_strength_ = options.surf_min_roll_strength;
 }
 
 Features SurfExtractor::Extract(const cv::Mat& gray) const {
@@ -28,7 +33,14 @@ Features SurfExtractor::Extract(const cv::Mat& gray) const {
   if (max_features_ > 0 && static_cast<int>(features.keypoints.size()) > max_features_) {
     features.keypoints.resize(max_features_);
   }
-  features.descriptors = DescribeSurf(image, features.keypoints, descriptor_);
+  SurfDescriptorOptions descriptor = descriptor_;
+  if (descriptor.upright && max_roll_radians_ > 0) {
+    const CameraRoll roll = EstimateCameraRoll(gray);
+    if (roll.strength >= min_roll_strength_ && std::fabs(roll.radians) <= max_roll_radians_) {
+      descriptor.upright_angle = roll.radians;
+    }
+  }
+  features.descriptors = DescribeSurf(image, features.keypoints, descriptor);
   return features;
 }
 

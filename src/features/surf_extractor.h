@@ -21,6 +21,8 @@ class SurfExtractor : public FeatureExtractor {
   FastHessianOptions detector_;
   SurfDescriptorOptions descriptor_;
   int max_features_;
+  double max_roll_radians_ = 0;  // surf.max_roll_degrees
+  double min_roll_strength_ = 0;
 };
 
 }  // namespace memloop

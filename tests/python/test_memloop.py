@@ -44,7 +44,7 @@ def test_options_through_the_registry():
     assert options["surf.upright"] is False
     options["dictionary.seed"] = 1234567
     assert options["dictionary.seed"] == 1234567
-    assert memloop.Options(preset="paper2011")["filter.hypothesis_value"] == "neighbours"
+    assert memloop.Options(preset="paper2011")["filter.hypothesis_value"] == "best_neighbours"
     with pytest.raises(memloop.ParameterError, match="Unknown parameter 'memory.stm'"):
         options["memory.stm"] = 3
     with pytest.raises(memloop.ParameterError, match=r"must be in \[0, 1\]"):

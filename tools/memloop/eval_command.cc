@@ -1,6 +1,7 @@
 // memloop eval RUN.csv GROUND_TRUTH [--format auto|mat|image|pairs|matrix] [--json]
-//              [--time-limit-ms T]
+//              [--time-limit-ms T] [--ignored-as-true]
 // memloop report RUN.csv GROUND_TRUTH [--format ...] [--out report.html] [--time-limit-ms T]
+//              [--ignored-as-true]
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -17,7 +18,7 @@
 namespace memloop::cli {
 namespace {
 
-nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
+nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth, bool ignored_as_true) {
   nlohmann::json curve = nlohmann::json::array();
   for (const PrecisionRecallPoint& p : e.curve) {
     curve.push_back({{"threshold", p.threshold},
@@ -29,6 +30,7 @@ nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
   return {{"images", e.images},
           {"ground_truth",
            {{"size", truth.size()},
+            {"ignored_as_true", ignored_as_true},
             {"pairs", truth.PairCount()},
             {"images_with_loop", e.accepted.loop_images}}},
           {"loop_closures",
@@ -56,10 +58,11 @@ nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth) {
 }
 
 void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::string& run,
-               const std::string& ground_truth) {
-  std::printf("run %s: %d images; ground truth %s: %dx%d, %d pairs, %d images with a loop\n",
+               const std::string& ground_truth, bool ignored_as_true) {
+  std::printf("run %s: %d images; ground truth %s: %dx%d, %d pairs, %d images with a loop%s\n",
               run.c_str(), e.images, ground_truth.c_str(), truth.size(), truth.size(),
-              truth.PairCount(), e.accepted.loop_images);
+              truth.PairCount(), e.accepted.loop_images,
+              ignored_as_true ? " (ignored pairs counted as loops)" : "");
   std::printf("loop closures accepted: %d (true %d, false %d, on ignored pairs %d)\n",
               e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
               e.accepted.false_positives, e.accepted.ignored);
@@ -90,7 +93,7 @@ struct Evaluated {
 
 // The run's rows and the ground truth over the same images (its size must be the run's).
 Evaluated Evaluate(const std::string& run, const std::string& ground_truth,
-                   const std::string& format, double time_limit_ms) {
+                   const std::string& format, double time_limit_ms, bool ignored_as_true) {
   std::vector<RunRow> rows = ReadRunCsv(run);
   int image_count = 0;
   for (const RunRow& row : rows) image_count = std::max(image_count, row.image + 1);
@@ -98,6 +101,7 @@ Evaluated Evaluate(const std::string& run, const std::string& ground_truth,
   for (const RunRow& row : rows) names[row.image] = row.name;
   GroundTruth truth =
       GroundTruth::Load(ground_truth, GroundTruth::ParseFormat(format), names, image_count);
+  if (ignored_as_true) truth = truth.IgnoredAsLoops();
   RunEvaluation evaluation = EvaluateRun(rows, truth, time_limit_ms);
   return {std::move(rows), std::move(truth), std::move(evaluation)};
 }
@@ -117,6 +121,12 @@ void AddTimeLimitOption(CLI::App& command, double* time_limit_ms) {
           "MS>=0"));
 }
 
+void AddIgnoredAsTrueFlag(CLI::App& command, bool* ignored_as_true) {
+  command.add_flag("--ignored-as-true", *ignored_as_true,
+                   "Count the ground truth's ignored pairs as loops (the paper's 2011 protocol): a "
+                   "detection on one is true; default: neither true nor false");
+}
+
 }  // namespace
 
 void AddReportCommand(CLI::App& app) {
@@ -126,6 +136,7 @@ void AddReportCommand(CLI::App& app) {
     std::string format = "auto";
     std::string out = "report.html";
     double time_limit_ms = 0;
+    bool ignored_as_true = false;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* report = app.add_subcommand(
@@ -137,12 +148,14 @@ void AddReportCommand(CLI::App& app) {
       ->capture_default_str();
   report->add_option("--out", arguments->out, "HTML file to write")->capture_default_str();
   AddTimeLimitOption(*report, &arguments->time_limit_ms);
+  AddIgnoredAsTrueFlag(*report, &arguments->ignored_as_true);
   report->callback([arguments] {
     const Evaluated evaluated = Evaluate(arguments->run, arguments->ground_truth, arguments->format,
-                                         arguments->time_limit_ms);
+                                         arguments->time_limit_ms, arguments->ignored_as_true);
     ReportOptions options;
     options.title = "memloop: " + arguments->run;
     options.time_limit_ms = arguments->time_limit_ms;
+    options.ignored_as_true = arguments->ignored_as_true;
     const std::string page =
         MakeReport(evaluated.rows, evaluated.truth, evaluated.evaluation, options);
     std::ofstream out(arguments->out);
@@ -160,6 +173,7 @@ void AddEvalCommand(CLI::App& app) {
     std::string format = "auto";
     bool json = false;
     double time_limit_ms = 0;
+    bool ignored_as_true = false;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* eval = app.add_subcommand(
@@ -172,13 +186,15 @@ void AddEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_flag("--json", arguments->json, "Print JSON");
   AddTimeLimitOption(*eval, &arguments->time_limit_ms);
+  AddIgnoredAsTrueFlag(*eval, &arguments->ignored_as_true);
   eval->callback([arguments] {
     const Evaluated e = Evaluate(arguments->run, arguments->ground_truth, arguments->format,
-                                 arguments->time_limit_ms);
+                                 arguments->time_limit_ms, arguments->ignored_as_true);
     if (arguments->json) {
-      std::cout << ToJson(e.evaluation, e.truth).dump(2) << "\n";
+      std::cout << ToJson(e.evaluation, e.truth, arguments->ignored_as_true).dump(2) << "\n";
     } else {
-      PrintText(e.evaluation, e.truth, arguments->run, arguments->ground_truth);
+      PrintText(e.evaluation, e.truth, arguments->run, arguments->ground_truth,
+                arguments->ignored_as_true);
     }
   });
 }
