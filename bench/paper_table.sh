@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # The paper's Table 1 (Sec. IV) on its own data set, Lip6Outdoor, for both presets. Columns:
 #   T_time = inf;  WM budget 280 and 102 (the max WM of the paper's 1.4 s and 0.4 s columns: the
-#   deterministic analogue, since this machine is ~20x faster than 2011's);  a real T_time, the
-#   paper's 1.4 s and 0.4 s scaled by this machine's speed (its max iteration at T_time = inf over
-#   the paper's 1.34 s; the paper's machine: a 2.66 GHz Core i7).
+#   deterministic analogue, since this machine is ~20x faster than 2011's);  a real T_time in the
+#   place of each of the paper's two: for 1.4 s, over the 99th percentile of the iterations at
+#   T_time = inf, as the paper's 1.4 s was over its 1.34 s maximum (WM is never cut); for 0.4 s,
+#   the median iteration of the T_time = inf run while WM held 92-112 locations, so that WM
+#   settles near the paper's 102 (both divided by the preset's memory.time_target, at which
+#   transfer starts). Real T_time depends on the machine and its load: run it alone.
 # Rows: images, max WM, max dictionary, max iteration time, precision at T_loop, recall at 100%
 # precision strict (ignored pairs neither true nor false) and lenient (`--ignored-as-true`, the
 # protocol of the paper's 2011 scripts).
@@ -43,16 +46,22 @@ for preset in $presets; do
   run "$preset" inf --set memory.time_limit_ms=0
   run "$preset" wm280 --set memory.time_limit_ms=0 --set memory.max_wm_locations=280
   run "$preset" wm102 --set memory.time_limit_ms=0 --set memory.max_wm_locations=102
-  speed=$(python3 -c 'import sys; print(float(sys.argv[1]) / 1.34)' "$(field "$out/$preset.inf.json" max_iteration_s)")
-  slow=$(python3 -c 'import sys; print(round(1400 * float(sys.argv[1]), 1))' "$speed")
-  fast=$(python3 -c 'import sys; print(round(400 * float(sys.argv[1]), 1))' "$speed")
+  target=$([ "$preset" = paper2011 ] && echo 1 || echo 0.75)  # memory.time_target
+  read -r slow fast < <(python3 -c '
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+times = sorted(float(r["iteration_ms"]) for r in rows)
+at_102 = [float(r["iteration_ms"]) for r in rows if 92 <= int(r["wm_size"]) <= 112]
+target = float(sys.argv[2])
+print(round(1.045 * times[int(0.99 * (len(times) - 1))] / target, 1),
+      round(statistics.median(at_102) / target, 1))' "$out/$preset.inf.csv" "$target")
   run "$preset" tslow --set memory.time_limit_ms="$slow"
   run "$preset" tfast --set memory.time_limit_ms="$fast"
   columns=(inf wm280 wm102 tslow tfast)
   echo
   echo "### --preset $preset"
   echo
-  echo "| | T_time = inf | WM budget 280 | WM budget 102 | T_time = $slow ms (1.4 s scaled) | T_time = $fast ms (0.4 s scaled) |"
+  echo "| | T_time = inf | WM budget 280 | WM budget 102 | T_time = $slow ms (for 1.4 s) | T_time = $fast ms (for 0.4 s) |"
   echo "| --- | ---: | ---: | ---: | ---: | ---: |"
   row() {  # label key format [lenient]
     printf "| %s |" "$1"

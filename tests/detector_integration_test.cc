@@ -180,18 +180,26 @@ TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets)
   }
 }
 
-// The paper's transfer order, for contrast: under a budget of 30 retrieved neighbours leave at
-// once and recall collapses (measured 14%), which the test above guards against.
-TEST(DetectorIntegrationTest, Paper2011TransferOrderLosesLoopsUnderABudget) {
+// The paper's transfer order under a budget of 30, for contrast: with the text's rule alone (a
+// retrieved location immune for the retrieving iteration only) the retrieved neighbours, old and
+// of weight 0, are the first to leave again and recall collapses; the paper's 2011 code kept
+// them 10 iterations (memory.retrieved_immune_iterations, in the paper2011 preset), and memloop
+// keeps the highest hypothesis' neighbourhood last (memory.protect_hypothesis). Both bring it back.
+TEST(DetectorIntegrationTest, Paper2011TransferOrderNeedsItsRetrievalDelayUnderABudget) {
   const SyntheticRoute route;
   Options options = Options::Paper2011();
   options.memory.time_limit_ms = 0;
   options.memory.max_wm_locations = 30;
-  const PrecisionRecall paper = Score(route, RunRoute(route, options));
+  const PrecisionRecall code = Score(route, RunRoute(route, options));
+  options.memory.retrieved_immune_iterations = 1;
+  const PrecisionRecall text = Score(route, RunRoute(route, options));
   options.memory.protect_hypothesis = 1;
   const PrecisionRecall kept = Score(route, RunRoute(route, options));
-  EXPECT_LT(paper.Recall(), 0.5);
-  EXPECT_GT(kept.Recall(), paper.Recall() + 0.2);
+  EXPECT_LT(text.Recall(), 0.5);
+  EXPECT_GT(code.Recall(), text.Recall() + 0.2);
+  EXPECT_GT(kept.Recall(), text.Recall() + 0.2);
+  std::cout << "paper2011 under WM 30: recall " << text.Recall() << " (text), " << code.Recall()
+            << " (2011 code), " << kept.Recall() << " (protect_hypothesis)\n";
 }
 
 TEST(DetectorIntegrationTest, SameInputSameResults) {

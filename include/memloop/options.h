@@ -34,6 +34,7 @@ struct FeatureOptions {
   // degrees, every keypoint is described in the rolled frame instead of at angle 0 (0: off).
   double surf_max_roll_degrees = 0;
   double surf_min_roll_strength = 0.05;  // the roll estimate's strength needed (0..1)
+  double surf_min_roll_degrees = 0;      // smaller rolls are described at 0, as U-SURF
   // With surf_max_roll_degrees: a loop closure is refused when the two images' rolls differ by
   // more than this (0: no check).
   double surf_max_roll_difference_degrees = 0;
@@ -116,6 +117,11 @@ struct MemoryOptions {
   int max_dictionary_words = 100000;
   // At most this many locations retrieved from LTM per iteration (paper III-E: two).
   int max_retrieved = 2;
+  // A retrieved location is not transferred during this many iterations, the retrieving one
+  // included (III-F: "the retrieved locations of the current iteration": 1). The paper's 2011
+  // code waited 10 (Mem/DelayRequired): by weight and age, a retrieved old location would
+  // otherwise be the first to leave again at the next iteration.
+  int retrieved_immune_iterations = 1;
   // The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared
   // with T_loop) reaches this (memloop: below it the highest hypothesis is noise; over 50,000
   // images 91% of the retrieved locations were never matched and 81% came back at a value under

@@ -1,6 +1,7 @@
 #include "memloop/detector.h"
 
 #include <cmath>
+#include <map>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
@@ -210,7 +211,7 @@ class Detector::Impl {
     ++counters_.images_processed;
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
-    retrieved_this_iteration_.clear();
+    ForgetOldRetrievals();
     ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
     ltm_.TakeFileReadMs();
     iteration_cpu_start_ms_ = ThreadCpuMs();
@@ -403,20 +404,15 @@ class Detector::Impl {
     hypothesis.Refuse();
   }
 
-  // Roll-compensated U-SURF describes every keypoint of an image at the image's roll, which its
-  // keypoints' angle keeps: two views rolled apart further than surf.max_roll_difference_degrees
-  // are not taken for one place.
+  // Roll-compensated U-SURF (surf.max_roll_degrees): keypoints keep their image's roll.
   void RequireSimilarRoll(const Signature& z_t, Hypothesis& hypothesis) const {
     const FeatureOptions& features = options_.features;
     if (features.type != "surf" || !features.surf_upright || features.surf_max_roll_degrees <= 0 ||
-        features.surf_max_roll_difference_degrees <= 0 || hypothesis.id == kNoLocation) {
+        hypothesis.id == kNoLocation) {
       return;
     }
-    const Signature& z_i = memory_.at(hypothesis.id).signature;
-    if (z_t.keypoints.empty() || z_i.keypoints.empty()) return;
-    double difference = std::fabs(z_t.keypoints[0].angle - z_i.keypoints[0].angle);
-    difference = std::min(difference, 360 - difference);
-    if (difference > features.surf_max_roll_difference_degrees) hypothesis.Refuse();
+    memloop::RequireSimilarRoll(z_t, memory_.at(hypothesis.id).signature,
+                                features.surf_max_roll_difference_degrees, hypothesis);
   }
 
   // filter.ltm_neighbour_check (hypothesis.h), at every image: the filter weighs WM alone, and a
@@ -503,7 +499,25 @@ class Detector::Impl {
       if (appearance_) appearance_->Leave(id);
     }
     result.retrieved_ids = retrieved;
-    retrieved_this_iteration_.insert(retrieved.begin(), retrieved.end());
+    for (LocationId id : retrieved) recently_retrieved_[id] = counters_.images_processed;
+  }
+
+  // Retrieved locations are immune to Transfer for memory.retrieved_immune_iterations iterations,
+  // the retrieving one included (III-F: that one; the paper's 2011 code: 10, Mem/DelayRequired).
+  void ForgetOldRetrievals() {
+    const long long iterations = options_.memory.retrieved_immune_iterations;
+    for (auto entry = recently_retrieved_.begin(); entry != recently_retrieved_.end();) {
+      const bool expired = counters_.images_processed - entry->second >= iterations;
+      entry = expired ? recently_retrieved_.erase(entry) : std::next(entry);
+    }
+  }
+
+  std::set<LocationId> TransferImmune() const {
+    std::set<LocationId> immune;
+    for (const auto& [id, iteration] : recently_retrieved_) {
+      if (memory_.InWorkingMemory(id)) immune.insert(id);
+    }
+    return immune;
   }
 
   // The checkpoint this iteration ends with, as last measured; 0 when it writes none.
@@ -543,8 +557,8 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids = Transfer(trigger, retrieved_this_iteration_, KeptLast(hypothesis),
-                                      memory_, editor_, DeadlineOf(iteration, &transfer_cost_));
+    result.transferred_ids = Transfer(trigger, TransferImmune(), KeptLast(hypothesis), memory_,
+                                      editor_, DeadlineOf(iteration, &transfer_cost_));
   }
 
   // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
@@ -595,7 +609,9 @@ class Detector::Impl {
   bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
-  std::set<LocationId> retrieved_this_iteration_;  // immune to Transfer (III-F)
+  // Immune to Transfer (III-F): the iteration (images_processed) each was retrieved at. Not in
+  // the checkpoint: a resumed run starts with none.
+  std::map<LocationId, long long> recently_retrieved_;
   bool closed_ = false;
 };
 

@@ -1,5 +1,8 @@
 #include "detector/hypothesis.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace memloop {
 
 namespace {
@@ -56,6 +59,15 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
 void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis) {
   if (ratio <= 0 || hypothesis.id == kNoLocation) return;
   if (previous_value <= 0 || hypothesis.value < ratio * previous_value) hypothesis.Refuse();
+}
+
+void RequireSimilarRoll(const Signature& z_t, const Signature& z_i, double max_degrees,
+                        Hypothesis& hypothesis) {
+  if (max_degrees <= 0 || hypothesis.id == kNoLocation) return;
+  if (z_t.keypoints.empty() || z_i.keypoints.empty()) return;
+  double difference = std::fabs(z_t.keypoints[0].angle - z_i.keypoints[0].angle);
+  difference = std::min(difference, 360 - difference);  // 350 and 10 are 20 apart
+  if (difference > max_degrees) hypothesis.Refuse();
 }
 
 void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,

@@ -37,6 +37,13 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
 // is at least `ratio` times the previous image's highest hypothesis value, which must not be 0.
 void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis);
 
+// surf.max_roll_difference_degrees (memloop): with roll-compensated U-SURF every keypoint of an
+// image holds the image's roll as its angle (degrees); L_i is refused when its roll and the
+// image's differ by more than `max_degrees` (0: no check): views rolled that far apart are other
+// views, as U-SURF alone makes them.
+void RequireSimilarRoll(const Signature& z_t, const Signature& z_i, double max_degrees,
+                        Hypothesis& hypothesis);
+
 // filter.min_shared_words (memloop): L_i is refused when the image `z_t` shares fewer than
 // `min_words` words with it (eq. 1's N_pair, `z_i`). When an image matches almost nothing, mu and
 // sigma of eq. 3 are tiny and a location sharing two words "stands out" as much as a true match:

@@ -173,5 +173,27 @@ TEST(HypothesisTest, LoopRatioRefusesAHypothesisBelowTheRatioOfThePreviousOne) {
   EXPECT_TRUE(hypothesis.accepted);
 }
 
+// surf.max_roll_difference_degrees: the images' rolls are their keypoints' angles (degrees).
+TEST(HypothesisTest, RollDifferenceRefusesViewsRolledApart) {
+  const auto rolled = [](float degrees) {
+    Signature signature;
+    signature.words = {1, 2};
+    signature.keypoints = {cv::KeyPoint(1, 1, 10, degrees), cv::KeyPoint(5, 5, 10, degrees)};
+    return signature;
+  };
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 5;
+  const auto check = [&](float a, float b, double max) {
+    Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+    RequireSimilarRoll(rolled(a), rolled(b), max, hypothesis);
+    return hypothesis.accepted;
+  };
+  EXPECT_TRUE(check(12, 0, 20));
+  EXPECT_FALSE(check(12, 350, 20));  // 22 apart across 0
+  EXPECT_TRUE(check(355, 10, 20));   // 15 apart across 0
+  EXPECT_FALSE(check(30, 5, 20));
+  EXPECT_TRUE(check(30, 5, 0));  // no check
+}
+
 }  // namespace
 }  // namespace memloop

@@ -70,6 +70,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("U-SURF: an image whose edges show the camera rolled by at most this is described in the rolled frame (0 = at angle 0)"),
     Param("surf.min_roll_strength", MEMLOOP_FIELD(features.surf_min_roll_strength)).Range(0, 1)
         .Help("U-SURF with surf.max_roll_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
+    Param("surf.min_roll_degrees", MEMLOOP_FIELD(features.surf_min_roll_degrees)).Unit("degrees").Range(0, 45)
+        .Help("U-SURF with surf.max_roll_degrees: a smaller estimated roll is described at angle 0, as U-SURF (which tolerates it)"),
     Param("surf.max_roll_difference_degrees", MEMLOOP_FIELD(features.surf_max_roll_difference_degrees)).Unit("degrees").Range(0, 90)
         .Help("U-SURF with surf.max_roll_degrees: refuse a loop closure between images whose estimated rolls differ by more than this (0 = no check)"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
@@ -110,6 +112,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, kHuge).Help("Deterministic budget: transfer while the dictionary is larger (0 = none); bounds memory (about 1.7 KB per word) and, with it, WM and the time per image; 100,000 is the size the paper reached under T_time"),
     Param("memory.max_retrieved", MEMLOOP_FIELD(memory.max_retrieved)).Unit("locations")
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
+    Param("memory.retrieved_immune_iterations", MEMLOOP_FIELD(memory.retrieved_immune_iterations)).Unit("iterations")
+        .Range(1, 100000).Symbol("III-F").Help("A retrieved location is not transferred during this many iterations, the retrieving one included (1 = the paper's text; its 2011 code: 10)"),
     Param("memory.retrieval_min_value", MEMLOOP_FIELD(memory.retrieval_min_value)).Range(0, 1)
         .Help("The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared with T_loop) reaches this (0 = whatever the value, the paper)"),
     Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()

@@ -39,6 +39,7 @@ TEST(ParamsTest, Paper2011PresetIsThePapersAndValid) {
   EXPECT_EQ(FindParameter("filter.loop_ratio")->Get(options), "0.9");
   EXPECT_EQ(FindParameter("filter.no_signal_virtual_place")->Get(options), "2");
   EXPECT_EQ(FindParameter("filter.min_shared_words")->Get(options), "1");
+  EXPECT_EQ(FindParameter("memory.retrieved_immune_iterations")->Get(options), "10");
   EXPECT_EQ(FindParameter("filter.require_support")->Get(options), "false");
   EXPECT_EQ(FindParameter("filter.ltm_neighbour_check")->Get(options), "false");
   EXPECT_EQ(FindParameter("memory.protect_hypothesis")->Get(options), "false");
@@ -75,7 +76,8 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           // The paper's 2011 code where its text is silent; memloop's measured choices.
           "surf.hessian_threshold", "surf.sample_step", "dictionary.nndr_ratio",
           "dictionary.kd_checks", "memory.rehearsal_most_similar", "filter.loop_ratio",
-          "filter.no_signal_virtual_place", "filter.min_sigma_ratio"}));
+          "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
+          "memory.retrieved_immune_iterations"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

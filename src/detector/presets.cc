@@ -17,7 +17,8 @@ Options Options::Paper2011() {
   // 64 leaves checked (Kp/NndrRatio, Kp/MaxLeafs).
   options.dictionary.nndr_ratio = 0.894427191;
   options.dictionary.kd_checks = 64;
-  options.memory.rehearsal_most_similar = 1;  // Memory::rehearsal
+  options.memory.rehearsal_most_similar = 1;        // Memory::rehearsal
+  options.memory.retrieved_immune_iterations = 10;  // Mem/DelayRequired
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
   options.memory.appearance_retrieval = 0;

@@ -144,27 +144,38 @@ TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   EXPECT_DOUBLE_EQ(e.max_iteration_ms, 60);
 }
 
-// --ignored-as-true (the paper's 2011 protocol): the same rows against SmallTruth() with its
-// ignored pair (6, 0) made a loop. Images with a loop: 3, 4, 5 and now 6.
-TEST(EvaluateRunTest, IgnoredAsTrueCountsTheIgnoredPairsAsLoops) {
+// --ignored-as-true (the paper's 2011 protocol): SmallTruth() with (5, 1) ignored too. Image 5 has
+// a true match (2), so its ignored pair becomes a loop; image 6 has none, so its ignored (6, 0)
+// stays ignored and the images with a loop stay 3, 4, 5.
+TEST(EvaluateRunTest, IgnoredAsTrueCountsTheIgnoredBandOfImagesWithALoop) {
+  cv::Mat labels(7, 7, CV_8U, cv::Scalar(GroundTruth::kNone));
+  labels.at<unsigned char>(3, 0) = GroundTruth::kLoop;
+  labels.at<unsigned char>(4, 1) = GroundTruth::kLoop;
+  labels.at<unsigned char>(5, 2) = GroundTruth::kLoop;
+  labels.at<unsigned char>(5, 1) = GroundTruth::kIgnored;
+  labels.at<unsigned char>(6, 0) = GroundTruth::kIgnored;
+  const GroundTruth strict(labels);
+  const GroundTruth lenient = strict.IgnoredAsLoops();
+  EXPECT_EQ(lenient.At(5, 1), GroundTruth::kLoop);
+  EXPECT_EQ(lenient.At(1, 5), GroundTruth::kLoop);  // symmetric
+  EXPECT_EQ(lenient.At(6, 0), GroundTruth::kIgnored);
+  EXPECT_EQ(lenient.PairCount(), 4);
   const std::vector<RunRow> rows = {
       Row(0, {}, 0, {}),      Row(1, {}, 0.05, {0}),        Row(2, {}, 0.30, {1}),
-      Row(3, {0}, 0.90, {0}), Row(4, {2, 1}, 0.50, {2, 1}), Row(5, {}, 0.30, {2}),
+      Row(3, {0}, 0.90, {0}), Row(4, {2, 1}, 0.50, {2, 1}), Row(5, {1}, 0.60, {1}),
       Row(6, {0}, 0.70, {0})};
-  const GroundTruth lenient = SmallTruth().IgnoredAsLoops();
-  EXPECT_EQ(lenient.At(6, 0), GroundTruth::kLoop);
-  EXPECT_EQ(lenient.At(0, 6), GroundTruth::kLoop);  // symmetric
-  EXPECT_EQ(lenient.At(6, 1), GroundTruth::kNone);
-  EXPECT_EQ(lenient.PairCount(), 4);
-  const RunEvaluation e = EvaluateRun(rows, lenient);
-  EXPECT_EQ(e.accepted.loop_images, 4);
-  EXPECT_EQ(e.accepted.true_positives, 3);  // 3, 4 and 6
-  EXPECT_EQ(e.accepted.ignored, 0);
-  EXPECT_DOUBLE_EQ(e.accepted.Recall(), 3.0 / 4);
-  // 0.9 (T), 0.7 (T), 0.5 (T): recall 3/4 at 100% precision; strict gave 2/3 at 0.5.
-  EXPECT_DOUBLE_EQ(e.recall_at_full_precision, 3.0 / 4);
-  EXPECT_DOUBLE_EQ(e.threshold_at_full_precision, 0.5);
-  EXPECT_DOUBLE_EQ(e.curve[1].recall, 2.0 / 4);
+  const RunEvaluation before = EvaluateRun(rows, strict);
+  const RunEvaluation after = EvaluateRun(rows, lenient);
+  EXPECT_EQ(before.accepted.true_positives, 2);  // 3, 4; 5 and 6 on ignored pairs
+  EXPECT_EQ(before.accepted.ignored, 2);
+  EXPECT_EQ(after.accepted.loop_images, 3);
+  EXPECT_EQ(after.accepted.true_positives, 3);  // 3, 4 and 5
+  EXPECT_EQ(after.accepted.ignored, 1);         // 6
+  EXPECT_DOUBLE_EQ(after.accepted.Recall(), 1.0);
+  // Sorted: 0.9 T, 0.7 ignored, 0.6 (5: ignored -> T), 0.5 T, 0.3 F, 0.05 F.
+  EXPECT_DOUBLE_EQ(before.recall_at_full_precision, 2.0 / 3);
+  EXPECT_DOUBLE_EQ(after.recall_at_full_precision, 1.0);
+  EXPECT_DOUBLE_EQ(after.threshold_at_full_precision, 0.5);
 }
 
 }  // namespace

@@ -198,7 +198,13 @@ bool GroundTruth::HasEarlierMatch(ImageIndex query) const {
 
 GroundTruth GroundTruth::IgnoredAsLoops() const {
   cv::Mat labels = labels_.clone();
-  labels.setTo(kLoop, labels == kIgnored);
+  for (ImageIndex query = 0; query < size(); ++query) {
+    if (!HasEarlierMatch(query)) continue;
+    for (ImageIndex match = 0; match < query; ++match) {
+      if (At(query, match) != kIgnored) continue;
+      labels.at<unsigned char>(query, match) = labels.at<unsigned char>(match, query) = kLoop;
+    }
+  }
   return GroundTruth(labels);
 }
 

@@ -57,6 +57,11 @@ TEST(CameraRollTest, UprightSurfDescribesInTheRolledFrame) {
   for (const cv::KeyPoint& keypoint : rolled.keypoints) EXPECT_NEAR(keypoint.angle, 350, 0.5);
   const Features beyond = SurfExtractor(options).Extract(Facade(25));  // over 15 degrees
   for (const cv::KeyPoint& keypoint : beyond.keypoints) EXPECT_EQ(keypoint.angle, 0);
+  options.surf_min_roll_degrees = 12;  // a 10-degree roll is left to U-SURF's own tolerance
+  for (const cv::KeyPoint& keypoint : SurfExtractor(options).Extract(Facade(-10)).keypoints) {
+    EXPECT_EQ(keypoint.angle, 0);
+  }
+  options.surf_min_roll_degrees = 0;
   options.surf_min_roll_strength = 1.0;  // never that strong
   for (const cv::KeyPoint& keypoint : SurfExtractor(options).Extract(Facade(-10)).keypoints) {
     EXPECT_EQ(keypoint.angle, 0);

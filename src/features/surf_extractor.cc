@@ -16,6 +16,7 @@ SurfExtractor::SurfExtractor(const FeatureOptions& options) : max_features_(opti
   descriptor_.extended = options.surf_extended != 0;
   max_roll_radians_ = options.surf_max_roll_degrees * M_PI / 180;
   min_roll_strength_ = options.surf_min_roll_strength;
+  min_roll_radians_ = options.surf_min_roll_degrees * M_PI / 180;
 }
 
 Features SurfExtractor::Extract(const cv::Mat& gray) const {
@@ -36,7 +37,9 @@ Features SurfExtractor::Extract(const cv::Mat& gray) const {
   SurfDescriptorOptions descriptor = descriptor_;
   if (descriptor.upright && max_roll_radians_ > 0) {
     const CameraRoll roll = EstimateCameraRoll(gray);
-    if (roll.strength >= min_roll_strength_ && std::fabs(roll.radians) <= max_roll_radians_) {
+    const double size = std::fabs(roll.radians);
+    if (roll.strength >= min_roll_strength_ && size <= max_roll_radians_ &&
+        size >= min_roll_radians_) {
       descriptor.upright_angle = roll.radians;
     }
   }

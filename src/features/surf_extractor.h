@@ -23,6 +23,7 @@ class SurfExtractor : public FeatureExtractor {
   int max_features_;
   double max_roll_radians_ = 0;  // surf.max_roll_degrees
   double min_roll_strength_ = 0;
+  double min_roll_radians_ = 0;
 };
 
 }  // namespace memloop
