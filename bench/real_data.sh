@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Recall on the real sequences of ../shared/datasets (each with a ground_truth.bmp), as issue 8
 # asks: one table, one row per (data set, preset, features, WM budget). Budgets are 50% and 25%
-# of the unbounded run's max WM; "lenient" is recall @100% P with the ground truth's ignored pairs
-# counted as loops (memloop eval --ignored-as-true, the paper's 2011 protocol). T_time is off in every row (repeatable: the same input gives the
-# same table on any machine; only the times differ). Usage:
+# of the unbounded run's max WM; "lenient" is recall @100% P with a match on the ignored band of an
+# image with a loop counted as found (memloop eval --ignored-as-true, the paper's 2011 protocol).
+# T_time is off in every row (repeatable: the same input gives the same table on any machine; only
+# the times differ). Usage:
 #   bench/real_data.sh [DATASETS_DIR] > table.md     (default ../shared/datasets)
 # Environment: PRESETS="default paper2011", FEATURES="surf sift orb", BUILD_DIR=build,
 # SETS="name=value ..." (more parameters for every row, e.g. to measure a change of default).

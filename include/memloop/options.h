@@ -238,8 +238,10 @@ struct Options {
   VerificationOptions verification;
 
   // The paper's mechanisms as written (Labbe & Michaud 2011): rotation-invariant SURF, STM 25,
-  // the neighbour-summed hypothesis, transfer by weight and age only. docs/design.md lists what
-  // the defaults change and what each change measured.
+  // the neighbour-summed hypothesis, transfer by weight and age only; where the text is silent,
+  // what the paper's 2011 code did (introlab/rtabmap 2d73090f: its SURF and ratio test, the
+  // highest neighbour sum, LoopRatio, retrieved locations kept 10 iterations). docs/design.md
+  // lists each choice, what the defaults change, and what each change measured.
   static Options Paper2011();
 };
 

@@ -211,7 +211,7 @@ class Detector::Impl {
     ++counters_.images_processed;
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
-    ForgetOldRetrievals();
+    retrieval_immunity_.StartIteration(counters_.images_processed);
     ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
     ltm_.TakeFileReadMs();
     iteration_cpu_start_ms_ = ThreadCpuMs();
@@ -499,25 +499,7 @@ class Detector::Impl {
       if (appearance_) appearance_->Leave(id);
     }
     result.retrieved_ids = retrieved;
-    for (LocationId id : retrieved) recently_retrieved_[id] = counters_.images_processed;
-  }
-
-  // Retrieved locations are immune to Transfer for memory.retrieved_immune_iterations iterations,
-  // the retrieving one included (III-F: that one; the paper's 2011 code: 10, Mem/DelayRequired).
-  void ForgetOldRetrievals() {
-    const long long iterations = options_.memory.retrieved_immune_iterations;
-    for (auto entry = recently_retrieved_.begin(); entry != recently_retrieved_.end();) {
-      const bool expired = counters_.images_processed - entry->second >= iterations;
-      entry = expired ? recently_retrieved_.erase(entry) : std::next(entry);
-    }
-  }
-
-  std::set<LocationId> TransferImmune() const {
-    std::set<LocationId> immune;
-    for (const auto& [id, iteration] : recently_retrieved_) {
-      if (memory_.InWorkingMemory(id)) immune.insert(id);
-    }
-    return immune;
+    retrieval_immunity_.Retrieved(retrieved, counters_.images_processed);
   }
 
   // The checkpoint this iteration ends with, as last measured; 0 when it writes none.
@@ -557,8 +539,9 @@ class Detector::Impl {
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;
     trigger.dictionary_size_at_start = dictionary_size_at_start_;
-    result.transferred_ids = Transfer(trigger, TransferImmune(), KeptLast(hypothesis), memory_,
-                                      editor_, DeadlineOf(iteration, &transfer_cost_));
+    result.transferred_ids =
+        Transfer(trigger, retrieval_immunity_.Immune(memory_), KeptLast(hypothesis), memory_,
+                 editor_, DeadlineOf(iteration, &transfer_cost_));
   }
 
   // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
@@ -609,9 +592,7 @@ class Detector::Impl {
   bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
-  // Immune to Transfer (III-F): the iteration (images_processed) each was retrieved at. Not in
-  // the checkpoint: a resumed run starts with none.
-  std::map<LocationId, long long> recently_retrieved_;
+  RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
   bool closed_ = false;
 };
 

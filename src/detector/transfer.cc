@@ -63,4 +63,24 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   return transferred;
 }
 
+void RetrievalImmunity::StartIteration(long long iteration) {
+  iteration_ = iteration;
+  for (auto entry = retrieved_at_.begin(); entry != retrieved_at_.end();) {
+    entry =
+        iteration - entry->second >= iterations_ ? retrieved_at_.erase(entry) : std::next(entry);
+  }
+}
+
+void RetrievalImmunity::Retrieved(const std::vector<LocationId>& ids, long long iteration) {
+  for (LocationId id : ids) retrieved_at_[id] = iteration;
+}
+
+std::set<LocationId> RetrievalImmunity::Immune(const Memory& memory) const {
+  std::set<LocationId> immune;
+  for (const auto& [id, iteration] : retrieved_at_) {
+    if (memory.InWorkingMemory(id)) immune.insert(id);
+  }
+  return immune;
+}
+
 }  // namespace memloop

@@ -3,6 +3,7 @@
 // ... is [not] less than the number of words added from the new or retrieved locations").
 #pragma once
 
+#include <map>
 #include <set>
 #include <vector>
 
@@ -40,6 +41,25 @@ int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_
 // hypothesis' neighbourhood) only after all others, in the same order among themselves.
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
                                       const std::set<LocationId>& last = {});
+
+// Retrieved locations are not transferred during `iterations` iterations, the retrieving one
+// included (III-F: "the retrieved locations of the current iteration", 1; the paper's 2011 code:
+// 10, Mem/DelayRequired; memory.retrieved_immune_iterations). Iterations are counted by the
+// caller (images processed). Not in the checkpoint: a resumed run starts with none immune.
+class RetrievalImmunity {
+ public:
+  explicit RetrievalImmunity(int iterations) : iterations_(iterations) {}
+  // Forgets the locations retrieved `iterations` or more iterations before `iteration`.
+  void StartIteration(long long iteration);
+  void Retrieved(const std::vector<LocationId>& ids, long long iteration);
+  // The immune locations still in WM.
+  std::set<LocationId> Immune(const Memory& memory) const;
+
+ private:
+  int iterations_;
+  long long iteration_ = 0;
+  std::map<LocationId, long long> retrieved_at_;
+};
 
 // Transfers while the trigger holds (at least one location, and trigger.min_locations, once
 // triggered). Returns the ids. The paper's rule and the budgets are met whatever the time; the

@@ -153,5 +153,30 @@ TEST(LocationsOverTimeTest, ScalesTheWorkingMemoryStagesToTheTarget) {
   EXPECT_EQ(LocationsOverTime(90, 40, 75, 1000, 0), 0);
 }
 
+// memory.retrieved_immune_iterations: retrieved at iteration 5 with 3 iterations of immunity,
+// immune at 5, 6 and 7, not at 8; a location that left WM is not reported.
+TEST_F(TransferTest, RetrievedLocationsStayImmuneForTheirIterations) {
+  RetrievalImmunity immunity(3);
+  immunity.StartIteration(5);
+  immunity.Retrieved({ids_[1], ids_[2]}, 5);
+  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[1], ids_[2]}));
+  immunity.StartIteration(7);
+  immunity.Retrieved({ids_[3]}, 7);
+  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[1], ids_[2], ids_[3]}));
+  immunity.StartIteration(8);
+  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[3]}));
+  EXPECT_EQ(TransferOrder(memory_, immunity.Immune(memory_)),
+            (std::vector<LocationId>{ids_[1], ids_[2], ids_[0]}));
+  RetrievalImmunity text(1);  // the paper's text: the retrieving iteration only
+  text.StartIteration(5);
+  text.Retrieved({ids_[1]}, 5);
+  EXPECT_EQ(text.Immune(memory_), (std::set<LocationId>{ids_[1]}));
+  text.StartIteration(6);
+  EXPECT_TRUE(text.Immune(memory_).empty());
+  immunity.Retrieved({ids_[0]}, 8);
+  editor_.TransferToLtm(ids_[0]);
+  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[3]}));
+}
+
 }  // namespace
 }  // namespace memloop
