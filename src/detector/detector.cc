@@ -1,7 +1,5 @@
 #include "memloop/detector.h"
 
-#include <cmath>
-#include <map>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
