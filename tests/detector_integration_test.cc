@@ -146,7 +146,7 @@ TEST(DetectorIntegrationTest, RetrievalWaitsForAHypothesisValue) {
 // are on the mean over six routes, a margin under the measured 42% / 65% / 97% at WM 20 / 30 / 45
 // (65% / 68% / 97.5% with memory.retrieval_min_value=0: retrievals for a hypothesis at noise level
 // cycle a small LTM through WM, which helps on a 300-image route and is pure cost at scale,
-// docs/design.md); the paper2011 preset gives 0% and 14% on seed 7 alone.
+// docs/design.md); the paper2011 preset's own rules are compared in the test after this one.
 // Known gap: an image just after a revisited stretch (the first of the second detour, image 190)
 // is sometimes accepted, budget or not: at most 3 false positives over the six routes.
 // Command: memloop demo --seed S --set memory.time_limit_ms=0 memory.max_wm_locations=N
