@@ -36,7 +36,7 @@ run() {  # preset column --set...
   "$build/memloop" eval "$out/$preset.$column.csv" "$truth" --json --ignored-as-true \
     >"$out/$preset.$column.lenient.json"
 }
-field() {  # json-file key: the first number after "key":
+field() {  # json-file key: the value of key, at the top level or in table1
   python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); t=d["table1"]; print({**d, **t}[sys.argv[2]])' "$1" "$2"
 }
 

@@ -64,7 +64,6 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
 }
 
 void RetrievalImmunity::StartIteration(long long iteration) {
-  iteration_ = iteration;
   for (auto entry = retrieved_at_.begin(); entry != retrieved_at_.end();) {
     entry =
         iteration - entry->second >= iterations_ ? retrieved_at_.erase(entry) : std::next(entry);

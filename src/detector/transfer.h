@@ -57,7 +57,6 @@ class RetrievalImmunity {
 
  private:
   int iterations_;
-  long long iteration_ = 0;
   std::map<LocationId, long long> retrieved_at_;
 };
 

@@ -56,6 +56,7 @@ TEST(CameraRollTest, UprightSurfDescribesInTheRolledFrame) {
   ASSERT_FALSE(rolled.keypoints.empty());
   for (const cv::KeyPoint& keypoint : rolled.keypoints) EXPECT_NEAR(keypoint.angle, 350, 0.5);
   const Features beyond = SurfExtractor(options).Extract(Facade(25));  // over 15 degrees
+  ASSERT_FALSE(beyond.keypoints.empty());
   for (const cv::KeyPoint& keypoint : beyond.keypoints) EXPECT_EQ(keypoint.angle, 0);
   options.surf_min_roll_degrees = 12;  // a 10-degree roll is left to U-SURF's own tolerance
   for (const cv::KeyPoint& keypoint : SurfExtractor(options).Extract(Facade(-10)).keypoints) {
