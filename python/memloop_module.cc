@@ -94,6 +94,10 @@ class PyDetector {
     if (detector_) detector_->Close();
     detector_.reset();
   }
+  void CloseAtLastCheckpoint() {
+    if (detector_) detector_->CloseAtLastCheckpoint();
+    detector_.reset();
+  }
   memloop::Detector& Live() {
     if (!detector_) throw memloop::Error("the detector is closed");
     return *detector_;
@@ -192,6 +196,10 @@ PYBIND11_MODULE(memloop, m) {
       .def("process", &PyDetector::Process, py::arg("image"), py::arg("index") = -1,
            "One image (numpy uint8, grey or BGR as cv2 gives); returns a Result")
       .def("close", &PyDetector::Close, "Stores STM and WM too: the map is then complete")
+      .def("close_at_last_checkpoint", &PyDetector::CloseAtLastCheckpoint,
+           "Closes as a crash would: the map stays at the checkpoint written by the last "
+           "process() call, i.e. without the last image (for a caller that could not store its "
+           "result)")
       .def_property_readonly("last_image", [](PyDetector& d) { return d.Live().last_image(); })
       .def("__enter__", [](PyDetector& d) -> PyDetector& { return d; })
       .def("__exit__", [](PyDetector& d, py::args) { d.Close(); });

@@ -44,6 +44,9 @@ class Detector {
   // One iteration of the paper's Fig. 1 for an 8-bit gray or BGR image. `image_index` names the
   // image in results and in the database (e.g. its position in a folder); by default the count of
   // images processed so far. Throws InputError for an empty or unsupported image, nothing changed.
+  // The resume checkpoint of an image's state is written by the next Process() (or by Flush() or
+  // Close()): a caller who stores each result before the next call has a map that is never ahead
+  // of what it stored, and calls CloseAtLastCheckpoint() when it could not store one.
   Result Process(const cv::Mat& image, ImageIndex image_index = kNoImage);
 
   // Writes a checkpoint and waits until it is committed with everything before it: a crash
@@ -68,12 +71,25 @@ class Detector {
   // it, but cannot report a failure. After a failed Process() (an exception other than a refused
   // image), nothing more is written: the file stays at its last checkpoint.
   void Close();
+  // Closes without storing anything after the last checkpoint written, as a crash would leave
+  // the file (resumable from it): for a caller that could not store the last Process() result
+  // (e.g. its CSV's disk is full), so that the map does not hold an image its results lack.
+  void CloseAtLastCheckpoint();
   const Options& options() const;
 
  private:
   class Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// How far a map's last checkpoint goes: what `memloop run --resume` goes on from.
+struct MapProgress {
+  ImageIndex last_image = kNoImage;  // the last image it holds
+  long long images_processed = 0;    // over every run that made it
+};
+// Read without changing the file. Throws DatabaseError when `path` is not a readable memloop map
+// or has no checkpoint.
+MapProgress ReadMapProgress(const std::string& path);
 
 // The options a map was made with (its parameter table). Throws DatabaseError when `path` is not
 // a readable memloop map. `memloop run --resume` starts from these.

@@ -67,8 +67,9 @@ struct DictionaryOptions {
   // images give the same words. 0: rebuilt inside the
   // iteration that crosses rebuild_fraction (a stop-the-world pause, as memloop did before).
   int rebuild_delay = 30;
-  // Not a parameter: the Detector sets it when T_time is on (runs are then machine-dependent
-  // anyway). The new forest is used as soon as it is built, never waited for.
+  // Not a parameter: the Detector sets it when T_time is on. The new forest is used at the same
+  // insertion as with T_time off when it is built by then (waited for while the iteration has
+  // time to spare: WordIndex::SetSwapWait), else at the first insertion after it is built.
   bool rebuild_swap_when_ready = false;
   // Seed of the forest's random split choice, so runs repeat exactly.
   int seed = 42;
@@ -94,10 +95,10 @@ struct MemoryOptions {
   // 0 disables the time limit (T_time = infinity); the result then depends on the machine's
   // speed, so repeatable runs use the budgets below instead.
   double time_limit_ms = 700.0;
-  // Transfer starts when the iteration, counted up to the transfer step plus the checkpoint that
-  // follows it, reaches this fraction of T_time (the paper: 1.0). Below 1, WM settles where the
-  // iteration takes this fraction of T_time, so that one over T_time is the exception rather than
-  // half of them (issue 9, docs/scale.md).
+  // Transfer starts when the iteration, counted up to the transfer step (the previous image's
+  // checkpoint, written at its start, included), reaches this fraction of T_time (the paper: 1.0).
+  // Below 1, WM settles where the iteration takes this fraction of T_time, so that one over T_time
+  // is the exception rather than half of them (issue 9, docs/scale.md).
   double time_target = 0.75;
   // When an iteration is over the time target, transfer enough WM locations for the next one to
   // fit (the WM-dependent stages scaled to what the target leaves), at most this fraction of WM
@@ -128,7 +129,7 @@ struct MemoryOptions {
   // 0.01, each re-matching ~150 words; docs/design.md). 0: whatever the value (the paper, III-E).
   double retrieval_min_value = 0.02;
   // 1 (with T_time on): a location is retrieved only when the iteration, with its expected
-  // retrieval time and the checkpoint after it, still ends under T_time; the others wait for a
+  // retrieval time, still ends under T_time; the others wait for a
   // later iteration (memloop, issue 9: re-matching one location's words costs about as much as
   // quantizing an image). 0: up to max_retrieved whatever the time (the paper).
   int retrieval_within_time = 1;

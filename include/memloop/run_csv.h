@@ -21,6 +21,10 @@ class RunCsvWriter {
   // map's checkpoint holds), drops later ones (they are processed again), and appends. A missing
   // file starts a new CSV. Throws InputError when the file is not a run CSV of this memloop.
   RunCsvWriter(const std::string& path, ImageIndex keep_through);
+  // Before a resume touches anything: throws InputError, naming `path`, when its rows up to
+  // `keep_through` are not those of a map that holds `images` images up to it (the CSV of
+  // another run, or one whose last rows were lost, e.g. on a full disk). A missing file passes.
+  static void CheckContinues(const std::string& path, ImageIndex keep_through, long long images);
   // Writes and flushes one row, so that a killed run leaves whole rows. Throws InputError when
   // the write fails (a full disk).
   void Write(const std::string& image_name, const Result& result);

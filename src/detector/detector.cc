@@ -102,6 +102,7 @@ class Detector::Impl {
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
     if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before
+    WaitForDueRebuildsWithinTime();
     if (localizing_) {
       MoveStmToWm();
       return;
@@ -109,6 +110,16 @@ class Detector::Impl {
     for (const Parameter& parameter : Parameters()) {
       ltm_.WriteInfo("param." + parameter.key, parameter.Get(options_));
     }
+  }
+
+  // With T_time on, a forest rebuild that is due but not done is waited for while the iteration
+  // has time to spare: half of what is left before time_target x T_time. The same images then
+  // use the same forest as with T_time off, unless time is short (issue 35).
+  void WaitForDueRebuildsWithinTime() {
+    const double target_ms = options_.memory.time_target * options_.memory.time_limit_ms;
+    if (target_ms <= 0) return;
+    memory_.dictionary().SetSwapWait(
+        [this, target_ms] { return 0.5 * (target_ms - iteration_.ElapsedMs()); });
   }
 
   // The paper's Fig. 1, one call per box.
@@ -160,10 +171,15 @@ class Detector::Impl {
     ltm_.Flush();
   }
 
+  // The LTM writer commits what is queued up to the last checkpoint when it stops, and drops
+  // what follows it.
+  void CloseAtLastCheckpoint() { closed_ = true; }
+
   const Options& options() const { return options_; }
 
  private:
-  // The paper's Fig. 1, one call per box, then the resume checkpoint.
+  // The paper's Fig. 1, one call per box. The resume checkpoint of this image's state is written
+  // at the start of the next one (StartIteration): see Detector::Process.
   Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
     Stopwatch iteration;
     Result result = StartIteration(image_index);
@@ -178,7 +194,7 @@ class Detector::Impl {
     CloseLoop(t, hypothesis, neighbourhoods, result);                                  // III-D
     RetrieveFromLtm(iteration, hypothesis, DescriptionOf(t), result);                  // III-E
     TransferToLtm(iteration, hypothesis, result);                                      // III-F
-    Checkpoint(result);
+    checkpoint_due_ = counters_.images_processed % options_.memory.checkpoint_interval == 0;
     Summarize(t, z_t, iteration, result);
     return result;
   }
@@ -203,7 +219,9 @@ class Detector::Impl {
   }
 
   Result StartIteration(ImageIndex image_index) {
+    iteration_ = Stopwatch();
     Result result;
+    WriteDueCheckpoint(result);  // the previous image's, before anything changes
     result.processed = true;
     result.image_index = image_index == kNoImage ? counters_.images_processed : image_index;
     ++counters_.images_processed;
@@ -261,28 +279,27 @@ class Detector::Impl {
     }
   }
 
-  void Checkpoint(Result& result) {
-    if (counters_.images_processed % options_.memory.checkpoint_interval != 0) return;
-    // With T_time on, a checkpoint the writer has not committed yet (SQLite folding its WAL into
-    // the file and flushing the disk stalled up to 580 ms) is not waited for: this image's is
-    // skipped, at most memory.checkpoint_max_skipped in a row, and the next one holds its changes
-    // too (issue 9). A crash then loses up to that many images more; with T_time off nothing is
-    // skipped.
+  // The previous image's checkpoint, when memory.checkpoint_interval makes one due. With T_time
+  // on, one the writer has not committed yet (SQLite folding its WAL into the file and flushing
+  // the disk stalled up to 580 ms) is not waited for: this one is skipped, at most
+  // memory.checkpoint_max_skipped in a row, and the next one holds its changes too (issue 9). A
+  // crash then loses up to that many images more; with T_time off nothing is skipped.
+  void WriteDueCheckpoint(Result& result) {
+    if (!checkpoint_due_) return;
+    checkpoint_due_ = false;
     if (options_.memory.time_limit_ms > 0 &&
         skipped_checkpoints_ < options_.memory.checkpoint_max_skipped &&
         ltm_.CheckpointInFlight()) {
       ++skipped_checkpoints_;
       return;
     }
-    skipped_checkpoints_ = 0;
-    {
-      ScopedTimer timer(&result.times.checkpoint_ms);
-      WriteCheckpoint();
-    }
-    last_checkpoint_ms_ = result.times.checkpoint_ms;
+    ScopedTimer timer(&result.times.checkpoint_ms);
+    WriteCheckpoint();
   }
 
   void WriteCheckpoint() {
+    checkpoint_due_ = false;
+    skipped_checkpoints_ = 0;
     ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_));
     memory_.ClearChanged();
   }
@@ -500,37 +517,28 @@ class Detector::Impl {
     retrieval_immunity_.Retrieved(retrieved, counters_.images_processed);
   }
 
-  // The checkpoint this iteration ends with, as last measured; 0 when it writes none.
-  double CheckpointAheadMs() const {
-    const bool checkpoints = counters_.images_processed % options_.memory.checkpoint_interval == 0;
-    return checkpoints ? last_checkpoint_ms_ : 0;
-  }
-
-  // T_time on: a retrieval or a transfer must end, with the checkpoint after it (as last
-  // measured), under T_time. Off: no deadline. (Ending retrievals by the time target instead
-  // halved them and left as many iterations over T_time: 3.2% vs 2.9%, 6,000 images at 50 ms.)
+  // T_time on: a retrieval or a transfer must end under T_time. Off: no deadline. (Ending
+  // retrievals by the time target instead halved them and left as many iterations over T_time:
+  // 3.2% vs 2.9%, 6,000 images at 50 ms.)
   StepDeadline DeadlineOf(const Stopwatch& iteration, StepCost* cost) const {
     const double limit = options_.memory.time_limit_ms;
     if (limit <= 0) return StepDeadline();
-    return StepDeadline([&iteration] { return iteration.ElapsedMs(); }, limit - CheckpointAheadMs(),
-                        cost);
+    return StepDeadline([&iteration] { return iteration.ElapsedMs(); }, limit, cost);
   }
 
   void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
     ScopedTimer timer(&result.times.transfer_ms);
     const double limit = options_.memory.time_limit_ms;
     TransferTrigger trigger;
-    // The paper compares the processing time with T_time at this point; what follows (the
-    // checkpoint) is counted too, as the previous iteration measured it, so that the whole
-    // iteration, not only its part up to here, stays under T_time (issue 9).
+    // The paper compares the processing time with T_time at this point; it includes the previous
+    // image's checkpoint, written at the start of this iteration, so that the whole iteration
+    // stays under T_time (issue 9).
     const double elapsed_ms = iteration.ElapsedMs();
-    const double remaining_ms = CheckpointAheadMs();
-    trigger.time_exceeded =
-        TimeExceeded(elapsed_ms, remaining_ms, limit, options_.memory.time_target);
+    trigger.time_exceeded = TimeExceeded(elapsed_ms, limit, options_.memory.time_target);
     if (trigger.time_exceeded) {
       const StageTimes& times = result.times;
       trigger.min_locations = LocationsOverTime(
-          elapsed_ms + remaining_ms, times.likelihood_ms + times.filter_ms + times.selection_ms,
+          elapsed_ms, times.likelihood_ms + times.filter_ms + times.selection_ms,
           options_.memory.time_target * limit, static_cast<int>(memory_.working_memory().size()),
           options_.memory.transfer_max_fraction);
     }
@@ -574,7 +582,8 @@ class Detector::Impl {
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   int skipped_checkpoints_ = 0;
   double iteration_cpu_start_ms_ = 0;  // ThreadCpuMs() at the start of the iteration
-  double last_checkpoint_ms_ = 0;      // counted in the next iteration's time check
+  Stopwatch iteration_;                // since the start of the current image
+  bool checkpoint_due_ = false;        // the last image's checkpoint, written by the next
   StepCost retrieval_cost_;            // one retrieval's expected time (T_time on)
   StepCost transfer_cost_;             // one transfer's
   std::unique_ptr<FeatureExtractor> extractor_;
@@ -615,6 +624,7 @@ long long Detector::images_processed() const { return impl_->images_processed();
 void Detector::SetWriterHeld(bool held) { impl_->SetWriterHeld(held); }
 std::vector<std::string> Detector::CheckConsistency() { return impl_->CheckConsistency(); }
 void Detector::Close() { impl_->Close(); }
+void Detector::CloseAtLastCheckpoint() { impl_->CloseAtLastCheckpoint(); }
 const Options& Detector::options() const { return impl_->options(); }
 
 }  // namespace memloop

@@ -1,5 +1,6 @@
 #include "detector/map_parameters.h"
 
+#include "detector/checkpoint.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/params.h"
@@ -38,6 +39,17 @@ void CheckMapParameters(LtmDatabase& database, const Options& options) {
         "", database.path() + ": cannot " + use +
                 " with other values of parameters that define the map: " + differences);
   }
+}
+
+MapProgress ReadMapProgress(const std::string& path) {
+  LtmDatabase database(path, LtmDatabase::Mode::kRead);
+  const std::optional<DetectorCounters> counters = ReadCheckpointCounters(database);
+  if (!counters) {
+    throw DatabaseError(path,
+                        "has no resume checkpoint (the run that made it stopped before its first "
+                        "one was committed): start a new map instead");
+  }
+  return MapProgress{counters->last_image, counters->images_processed};
 }
 
 Options ReadMapOptions(const std::string& path) {

@@ -1,10 +1,12 @@
 #include "memloop/params.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <vector>
 
 #include "memloop/errors.h"
 
@@ -49,7 +51,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("features.max_features", MEMLOOP_FIELD(features.max_features)).Unit("keypoints")
         .Range(0, 100000).Help("Strongest keypoints kept per image (0 = all)"),
     Param("features.min_image_side", MEMLOOP_FIELD(features.min_image_side)).Unit("pixels")
-        .Range(0, 100000).Help("Images whose smaller side is under this are enlarged (bilinear, smallest integer factor that reaches it) before feature extraction; keypoints stay in the image's pixels (0 = never)"),
+        .Range(0, 100000).Help("Images whose smaller side is under this are enlarged (bilinear, smallest integer factor that reaches it, lowered to keep at most 4 million pixels) before feature extraction; keypoints stay in the image's pixels (0 = never)"),
     Param("surf.hessian_threshold", MEMLOOP_FIELD(features.surf_hessian_threshold))
         .Range(0, kHuge).Help("SURF: minimum det(H) of a keypoint, on 0-255 intensities (as OpenCV)"),
     Param("surf.octaves", MEMLOOP_FIELD(features.surf_octaves)).Range(1, 8)
@@ -311,6 +313,40 @@ const Parameter* FindParameter(const std::string& key) {
   return nullptr;
 }
 
+namespace {
+
+// Levenshtein distance: single-character edits from `a` to `b`.
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// "; did you mean 'memory.time_limit_ms'?" for a name within 3 edits of one parameter's.
+std::string Suggestion(const std::string& key) {
+  const Parameter* nearest = nullptr;
+  size_t best = 4;
+  for (const Parameter& parameter : Parameters()) {
+    const size_t distance = EditDistance(key, parameter.key);
+    if (distance < best) {
+      best = distance;
+      nearest = &parameter;
+    }
+  }
+  return nearest ? "; did you mean '" + nearest->key + "'?" : "";
+}
+
+}  // namespace
+
 void SetParameter(Options& options, const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
@@ -320,7 +356,8 @@ void SetParameter(Options& options, const std::string& assignment) {
   const std::string key = assignment.substr(0, equals);
   const Parameter* parameter = FindParameter(key);
   if (parameter == nullptr) {
-    throw ParameterError(key, "Unknown parameter '" + key + "' (see 'memloop params')");
+    throw ParameterError(
+        key, "Unknown parameter '" + key + "' (see 'memloop params')" + Suggestion(key));
   }
   parameter->Set(options, assignment.substr(equals + 1));
 }

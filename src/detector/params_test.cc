@@ -114,6 +114,10 @@ TEST(ParamsTest, BadAssignmentsAreRefusedWithTheReason) {
   EXPECT_NE(ErrorOf("features.type=surfish").find("must be one of surf|sift|orb"),
             std::string::npos);
   EXPECT_EQ(ErrorOf("memory.stm=3"), "Unknown parameter 'memory.stm' (see 'memloop params')");
+  // A typo names the nearest parameter (here one letter missing).
+  EXPECT_EQ(ErrorOf("memory.time_limt_ms=3"),
+            "Unknown parameter 'memory.time_limt_ms' (see 'memloop params'); did you mean "
+            "'memory.time_limit_ms'?");
   EXPECT_NE(ErrorOf("stm_size").find("expected NAME=VALUE"), std::string::npos);
 }
 

@@ -7,8 +7,8 @@
 
 namespace memloop {
 
-bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target) {
-  return time_limit_ms > 0 && elapsed_ms + remaining_ms > target * time_limit_ms;
+bool TimeExceeded(double elapsed_ms, double time_limit_ms, double target) {
+  return time_limit_ms > 0 && elapsed_ms > target * time_limit_ms;
 }
 
 int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,

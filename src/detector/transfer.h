@@ -21,10 +21,10 @@ struct TransferTrigger {
   int min_locations = 0;  // transferred at least (LocationsOverTime), once triggered
 };
 
-// The time trigger: the iteration so far (`elapsed_ms`, up to the transfer step) plus what will
-// follow it (`remaining_ms`: the checkpoint, as last measured) reaches `target` x T_time
-// (memory.time_target; the paper: 1, elapsed > T_time). False when T_time is off (0).
-bool TimeExceeded(double elapsed_ms, double remaining_ms, double time_limit_ms, double target);
+// The time trigger: the iteration so far (`elapsed_ms`, up to the transfer step, the previous
+// image's checkpoint included) is over `target` x T_time (memory.time_target; the paper: 1,
+// elapsed > T_time). False when T_time is off (0).
+bool TimeExceeded(double elapsed_ms, double time_limit_ms, double target);
 
 // memloop's time controller (memory.transfer_max_fraction; not in the paper): how many WM
 // locations to transfer so that the next iteration fits `target_ms`. The part of the iteration

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -72,31 +73,67 @@ void RunCsvWriter::Create() {
   if (!out_) throw InputError(path_, "writing the results failed (disk full?)");
 }
 
-RunCsvWriter::RunCsvWriter(const std::string& path, ImageIndex keep_through) : path_(path) {
+namespace {
+
+// A resumed CSV's header and rows of images up to `keep_through`; nullopt when there is no file.
+struct KeptRows {
+  std::string text;
+  long long rows = 0;
+  ImageIndex last_image = kNoImage;
+};
+
+std::optional<KeptRows> ReadKeptRows(const std::string& path, ImageIndex keep_through) {
   std::ifstream in(path);
-  if (!in) {  // nothing to continue: a new CSV
-    Create();
-    return;
-  }
+  if (!in) return std::nullopt;
   std::string line;
   if (!std::getline(in, line) || line != kHeader) {
     throw InputError(path,
                      "not a results CSV of this memloop: cannot continue it (give another "
                      "--out, or remove the file)");
   }
-  std::string kept = line + '\n';
+  KeptRows kept{line + '\n'};
   // Rows are in image order; a row cut by a crash (no end of line) goes too.
   while (std::getline(in, line) && !in.eof()) {
     char* end = nullptr;
     const long image = std::strtol(line.c_str(), &end, 10);
     if (end == line.c_str() || *end != ',' || image > keep_through) break;
-    kept += line + '\n';
+    kept.text += line + '\n';
+    ++kept.rows;
+    kept.last_image = static_cast<ImageIndex>(image);
   }
-  in.close();
+  return kept;
+}
+
+}  // namespace
+
+void RunCsvWriter::CheckContinues(const std::string& path, ImageIndex keep_through,
+                                  long long images) {
+  const std::optional<KeptRows> kept = ReadKeptRows(path, keep_through);
+  if (!kept || kept->rows == images) return;
+  if (kept->rows < images && (kept->rows == 0 || kept->last_image < keep_through)) {
+    throw InputError(path, "holds results up to image " +
+                               (kept->rows == 0 ? "none" : std::to_string(kept->last_image)) +
+                               " but the map holds " + std::to_string(images) +
+                               " images up to image " + std::to_string(keep_through) +
+                               ": the rows between are lost; run again without --resume, or "
+                               "give this map's own CSV");
+  }
+  throw InputError(path, "is not this map's results: " + std::to_string(kept->rows) +
+                             " rows up to image " + std::to_string(keep_through) +
+                             ", where the map holds " + std::to_string(images) +
+                             " images; give this map's own CSV, or another --out");
+}
+
+RunCsvWriter::RunCsvWriter(const std::string& path, ImageIndex keep_through) : path_(path) {
+  const std::optional<KeptRows> kept = ReadKeptRows(path, keep_through);
+  if (!kept) {  // nothing to continue: a new CSV
+    Create();
+    return;
+  }
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::trunc);
-    out << kept;
+    out << kept->text;
     out.close();
     if (!out) throw InputError(temporary, "writing the results failed (disk full?)");
   }

@@ -1,6 +1,7 @@
 #include "features/upsampled_extractor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace memloop {
@@ -8,7 +9,10 @@ namespace memloop {
 int UpsampleFactor(cv::Size size, int min_side) {
   const int smaller = std::min(size.width, size.height);
   if (min_side <= 0 || smaller <= 0 || smaller >= min_side) return 1;
-  return (min_side + smaller - 1) / smaller;
+  const int factor = (min_side + smaller - 1) / smaller;
+  const double area = static_cast<double>(size.width) * size.height;
+  const int within_cap = static_cast<int>(std::sqrt(kMaxEnlargedPixels / area));
+  return std::max(1, std::min(factor, within_cap));
 }
 
 UpsampledExtractor::UpsampledExtractor(std::unique_ptr<FeatureExtractor> inner, int min_side)

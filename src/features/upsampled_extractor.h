@@ -11,8 +11,13 @@
 
 namespace memloop {
 
+// At most this many pixels once enlarged (twice a 1080p frame): a strip such as 30000x10 would
+// otherwise be enlarged 24x, to 720000x240 (22 s and 1.8 GB for one image; issue 35).
+constexpr double kMaxEnlargedPixels = 4e6;
+
 // The smallest integer factor that brings the smaller side of `size` to at least `min_side`
-// pixels; 1 when it already is, or when `min_side` is 0.
+// pixels, lowered so that the enlarged image has at most kMaxEnlargedPixels; 1 when the side
+// already is, or when `min_side` is 0.
 int UpsampleFactor(cv::Size size, int min_side);
 
 // Wraps another extractor: images whose smaller side is under `min_side` are enlarged by

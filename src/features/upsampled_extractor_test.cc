@@ -17,6 +17,9 @@ TEST(UpsampledExtractorTest, FactorIsTheSmallestIntegerThatReachesTheSide) {
   EXPECT_EQ(UpsampleFactor(cv::Size(100, 50), 240), 5);
   EXPECT_EQ(UpsampleFactor(cv::Size(320, 240), 240), 1);  // already there
   EXPECT_EQ(UpsampleFactor(cv::Size(160, 120), 0), 1);    // off
+  // 24x would make 720000x240; sqrt(4e6 / 300000) = 3.65: 3x, 2.7 million pixels.
+  EXPECT_EQ(UpsampleFactor(cv::Size(30000, 10), 240), 3);
+  EXPECT_EQ(UpsampleFactor(cv::Size(1000000, 10), 240), 1);  // over the cap already: as it is
 }
 
 // Records the image it was given and returns one keypoint at a known place.

@@ -119,6 +119,7 @@ std::unique_ptr<ImageSequence> OpenVideo(const std::string& path, double rate_hz
 
 std::unique_ptr<ImageSequence> ImageSequence::OpenCamera(int device,
                                                          const SequenceOptions& options) {
+  CheckSequenceOptions(options);
   return std::make_unique<CameraSequence>(device, options.rate_hz);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -115,16 +116,35 @@ std::vector<std::string> ListFolder(const std::string& folder) {
   for (fs::directory_iterator entry(folder, error), end; !error && entry != end;
        entry.increment(error)) {
     const std::string name = entry->path().filename().string();
-    if (name.empty() || name[0] == '.' || !entry->is_regular_file()) continue;
-    names.push_back(name);
+    if (name.empty() || name[0] == '.') continue;
+    // An entry whose type cannot be known (a looping symlink) is kept: reading it fails, and
+    // the run skips and counts it like a corrupt image instead of stopping.
+    std::error_code type_error;
+    const bool regular = entry->is_regular_file(type_error);
+    if (regular || type_error) names.push_back(name);
   }
   if (error) throw InputError(folder, "cannot list the folder (" + error.message() + ")");
   std::sort(names.begin(), names.end(), NaturalLess);
   return names;
 }
 
+namespace {
+
+// NaN passes `rate_hz > 0` checks as false and `rate_hz <= 0` ones as false too: refused here.
+void CheckRate(const SequenceOptions& options) {
+  if (!std::isfinite(options.rate_hz) || options.rate_hz < 0) {
+    throw ParameterError("--rate",
+                         "--rate: must be a finite number of frames per second (0: "
+                         "every frame), not " +
+                             std::to_string(options.rate_hz));
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
                                                    const SequenceOptions& options) {
+  CheckRate(options);
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error || !fs::exists(status)) throw InputError(path, "no such file or folder");
@@ -139,5 +159,7 @@ std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
   }
   return OpenVideo(path, options.rate_hz);
 }
+
+void CheckSequenceOptions(const SequenceOptions& options) { CheckRate(options); }
 
 }  // namespace memloop

@@ -1,6 +1,7 @@
 #include "storage/ltm_database.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
@@ -24,6 +25,12 @@ off_t FileSize(const std::string& path) {
 // A map's rows may still be only in its write-ahead log (a run killed before SQLite folded it).
 bool HoldsData(const std::string& path) {
   return FileSize(path) > 0 || FileSize(path + "-wal") > 0;
+}
+
+// A file SQLite may read alone, leaving nothing beside it: no write-ahead log with content
+// (a map closed cleanly) and no rollback journal.
+bool ReadableAlone(const std::string& path) {
+  return FileSize(path + "-wal") == 0 && !fs::exists(path + "-journal");
 }
 
 // What cannot be a map file at all, said before SQLite says "disk I/O error" or "unable to open".
@@ -63,17 +70,32 @@ std::string ReadText(SqliteConnection& connection, const std::string& sql) {
 int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
   CheckIsFileOrAbsent(path, mode);
   if (!HoldsData(path)) {
-    if (mode != Mode::kCreate) throw DatabaseError(path, "empty file: no memloop map in it");
+    if (mode != Mode::kCreate) {
+      throw DatabaseError(path,
+                          "empty file: no memloop map in it (a run killed before its first "
+                          "image was stored leaves one: run without --resume to start "
+                          "the map afresh)");
+    }
     return kFormatVersion;
   }
-  // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in).
-  SqliteConnection connection(path, SQLITE_OPEN_READONLY);
+  // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in),
+  // and, read alone, gets no -wal or -shm beside it.
+  SqliteConnection connection(path, SQLITE_OPEN_READONLY, ReadableAlone(path));
   int application_id = 0;
   int version = 0;
   try {
     application_id = ReadInt(connection, "PRAGMA application_id");
     version = ReadInt(connection, "PRAGMA user_version");
   } catch (const DatabaseError&) {
+    const std::string folder =
+        fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+    if (!ReadableAlone(path) && access(folder.c_str(), W_OK) != 0) {
+      throw DatabaseError(path, "cannot read the map's write-ahead log (" + path +
+                                    "-wal): SQLite needs to write its -shm file, and the folder " +
+                                    folder +
+                                    " is not writable; copy the map and its -wal "
+                                    "somewhere writable");
+    }
     throw DatabaseError(path, std::string("not a memloop map: not an SQLite database, or its "
                                           "header is damaged (") +
                                   sqlite3_errmsg(connection.handle()) + ")");
@@ -110,9 +132,12 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
 
 LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
     : format_version_(CheckMapFile(path, mode)),
-      connection_(path, mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
-                        : mode == Mode::kRead || mode == Mode::kPeek ? SQLITE_OPEN_READONLY
-                                                                     : SQLITE_OPEN_READWRITE) {
+      connection_(path,
+                  mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+                  : mode == Mode::kRead || mode == Mode::kPeek ? SQLITE_OPEN_READONLY
+                                                               : SQLITE_OPEN_READWRITE,
+                  // kPeek reads beside a writer: it must see the log
+                  mode == Mode::kRead && ReadableAlone(path)) {
   if (mode == Mode::kRead || mode == Mode::kPeek) return;
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).

@@ -56,7 +56,8 @@ class LtmDatabase {
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty
     kOpen,    // an existing memloop map, read and written
-    kRead,    // an existing memloop map, read only (its file is never written)
+    kRead,    // an existing memloop map, read only (its file is never written; closed cleanly, it
+              // gets no -wal or -shm beside it)
     kAttach,  // as kOpen, for a further connection to a map another one has just opened: its
               // identity is checked, not its integrity again (quick_check reads the whole file)
     kPeek,    // as kRead, for a further connection to a map another one has just opened

@@ -1,13 +1,38 @@
 #include "storage/sqlite_statement.h"
 
+#include <cctype>
 #include <cstring>
 
 #include "memloop/errors.h"
 
 namespace memloop {
 
-SqliteConnection::SqliteConnection(const std::string& path, int flags) : path_(path) {
-  const int code = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+namespace {
+
+// "file:" URI of a path (https://sqlite.org/uri.html): every byte but unreserved ones and '/'
+// percent-encoded, so that '?', '#' and '%' in a file name stay part of it.
+std::string ImmutableUri(const std::string& path) {
+  std::string uri = "file:";
+  for (const unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      uri += static_cast<char>(c);
+    } else {
+      static const char kHex[] = "0123456789ABCDEF";
+      uri += '%';
+      uri += kHex[c >> 4];
+      uri += kHex[c & 15];
+    }
+  }
+  return uri + "?immutable=1";
+}
+
+}  // namespace
+
+SqliteConnection::SqliteConnection(const std::string& path, int flags, bool immutable)
+    : path_(path) {
+  const int code = immutable ? sqlite3_open_v2(ImmutableUri(path).c_str(), &db_,
+                                               flags | SQLITE_OPEN_URI, nullptr)
+                             : sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
   if (code != SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(code);
     sqlite3_close(db_);

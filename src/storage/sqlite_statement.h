@@ -11,8 +11,10 @@ namespace memloop {
 
 class SqliteConnection {
  public:
-  // flags: SQLITE_OPEN_* flags.
-  SqliteConnection(const std::string& path, int flags);
+  // flags: SQLITE_OPEN_* flags. `immutable` (read-only, for a file no other connection uses and
+  // whose write-ahead log is absent or empty): SQLite reads the file alone and creates no -wal or
+  // -shm beside it (URI parameter immutable=1), which also works on a read-only file system.
+  SqliteConnection(const std::string& path, int flags, bool immutable = false);
   ~SqliteConnection();
   SqliteConnection(const SqliteConnection&) = delete;
   SqliteConnection& operator=(const SqliteConnection&) = delete;

@@ -3,6 +3,7 @@
 // locations that contain it (the inverted index used by the likelihood, eq. 3).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <opencv2/core.hpp>
 #include <set>
@@ -42,6 +43,8 @@ class Dictionary {
   // The word's descriptor as a 1-row matrix (a copy).
   cv::Mat Descriptor(WordId id) const;
   size_t size() const { return words_.size(); }
+  // WordIndex::SetSwapWait: how long a quantization may wait for a due background rebuild.
+  void SetSwapWait(std::function<double()> budget_ms) { index_->SetSwapWait(std::move(budget_ms)); }
   int descriptor_dim() const { return index_->dim(); }
   DescriptorKind descriptor_kind() const { return index_->kind(); }
   int descriptor_cv_type() const { return index_->cv_type(); }

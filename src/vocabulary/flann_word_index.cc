@@ -112,6 +112,9 @@ class FlannWordIndex : public WordIndex {
   bool Contains(WordId id) const override { return points_.Contains(id); }
   size_t size() const override { return points_.size(); }
   int build_count() const override { return build_count_; }
+  void SetSwapWait(std::function<double()> budget_ms) override {
+    swap_wait_ms_ = std::move(budget_ms);
+  }
 
   cv::Mat Descriptor(WordId id) const override {
     const Element* data = Point(id);
@@ -287,27 +290,38 @@ class FlannWordIndex : public WordIndex {
     std::future<Built> caught_up;
   };
 
-  // When the build is done (T_time on), or half-way to its use (T_time off: a fixed age, so
-  // that the same history gives the same index), the points added since the snapshot are added
-  // to the new index in the background: the swap then adds only those that came after.
+  // Half-way to its use (a fixed age, so that the same history gives the same index), the
+  // points added since the snapshot are added to the new index in the background: the swap then
+  // adds only those that came after. With T_time on the same ages hold, but a build not done by
+  // then is not waited for: its step moves to the first Add at which it is done. A machine fast
+  // enough for the schedule then gives the index T_time off gives (issue 35: three default runs
+  // of gp_walk_a accepted 67, 65 and 68 loop closures when the forest was used as soon as built).
   bool CatchUpDue() const {
-    if (options_.rebuild_swap_when_ready) {
-      return pending_->built.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-    }
-    return pending_->age >= CatchUpAge();
+    if (pending_->age < CatchUpAge()) return false;
+    return !options_.rebuild_swap_when_ready || DoneWithin(pending_->built);
   }
   bool SwapDue() const {
-    if (options_.rebuild_swap_when_ready) {
-      return pending_->caught_up.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-    }
-    return pending_->age >= SwapDelay(pending_->words.size());
+    if (pending_->age < SwapDelay(pending_->words.size())) return false;
+    return !options_.rebuild_swap_when_ready || DoneWithin(pending_->caught_up);
+  }
+  // Done, or done within what the iteration can spare (SetSwapWait): the build thread runs at a
+  // lower priority, so on a loaded machine it is late unless the detector's thread gives it time.
+  template <typename T>
+  bool DoneWithin(const std::future<T>& step) const {
+    const double wait_ms = swap_wait_ms_ ? std::max(0.0, swap_wait_ms_()) : 0.0;
+    return step.wait_for(std::chrono::duration<double, std::milli>(wait_ms)) ==
+           std::future_status::ready;
+  }
+  // T_time on, a step that came late: the schedule no longer holds.
+  bool Late() const {
+    return options_.rebuild_swap_when_ready && pending_->age > SwapDelay(pending_->words.size());
   }
   int CatchUpAge() const { return SwapDelay(pending_->words.size()) / 2; }
 
-  // T_time off: next_point_ when the age was CatchUpAge() (the end of that Add), also when a
-  // resumed map replays a build whose catch-up had started. T_time on: now.
+  // next_point_ when the age was CatchUpAge() (the end of that Add), also when a resumed map
+  // replays a build whose catch-up had started. T_time on: now (the same when on time).
   size_t CatchUpPoint() const {
-    if (options_.rebuild_swap_when_ready) return next_point_;
+    if (options_.rebuild_swap_when_ready && pending_->age > CatchUpAge()) return next_point_;
     const auto first_batch =
         std::lower_bound(batch_starts_.begin(), batch_starts_.end(), pending_->snapshot_point);
     const size_t batch = static_cast<size_t>(first_batch - batch_starts_.begin()) + CatchUpAge();
@@ -321,13 +335,13 @@ class FlannWordIndex : public WordIndex {
     CatchUpTo(CatchUpPoint(), std::move(pending.built));
   }
 
-  // T_time on: when a round ends, the points that came meanwhile are caught up in another round,
-  // until few enough came for the swap to add them itself (kSwapMaxPoints) or kMaxRounds. Each
-  // round is shorter than the one before: the background adds points faster than images bring
+  // T_time on, late: when a round ends, the points that came meanwhile are caught up in another
+  // round, until few enough came for the swap to add them itself (kSwapMaxPoints) or kMaxRounds.
+  // Each round is shorter than the one before: the background adds points faster than images bring
   // them. The index is the same as with one round (the same points, added in the same order).
   bool CatchUpAgain() {
     PendingBuild& pending = *pending_;
-    if (!options_.rebuild_swap_when_ready || pending.rounds >= kMaxRounds ||
+    if (!Late() || pending.rounds >= kMaxRounds ||
         next_point_ - pending.catch_up_point <= kSwapMaxPoints) {
       return false;
     }
@@ -576,6 +590,7 @@ class FlannWordIndex : public WordIndex {
   std::unique_ptr<PendingBuild> pending_;       // its destruction waits for the build thread
   std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending
   std::future<void> retired_;                   // the old forest being freed after a swap
+  std::function<double()> swap_wait_ms_;        // SetSwapWait
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   PointMap points_;                   // live words <-> their points

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -51,10 +52,13 @@ class WordIndex {
   // Copies the rows of `descriptors` as points named `ids`. Points are added to the existing
   // index. When the points added and removed since the last build exceed rebuild_fraction of its
   // size then, a new index is built from the live words: in the background when rebuild_delay > 0,
-  // replacing this one, brought up to date, rebuild_delay Adds later (or, with
-  // rebuild_swap_when_ready, at the first Add after it is built).
+  // replacing this one, brought up to date, rebuild_delay Adds later (with
+  // rebuild_swap_when_ready, not waited for: at the first Add from then on at which it is built).
   virtual void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) = 0;
   virtual void Remove(WordId id) = 0;
+  // With rebuild_swap_when_ready: how long (ms) an Add may wait for a background build that is
+  // due but not done, asked at that moment (<= 0: not at all, the default).
+  virtual void SetSwapWait(std::function<double()> budget_ms) { (void)budget_ms; }
   virtual bool Contains(WordId id) const = 0;
   // The word's descriptor as one row (a copy); empty when unknown.
   virtual cv::Mat Descriptor(WordId id) const = 0;

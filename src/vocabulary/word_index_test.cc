@@ -137,9 +137,9 @@ TEST(WordIndexTest, LargeSnapshotIsUsedLater) {
 }
 
 // With T_time on, the new forest is used at the first Add after it is built.
-TEST(WordIndexTest, BackgroundRebuildCanBeUsedAsSoonAsItIsReady) {
+TEST(WordIndexTest, BackgroundRebuildIsNotWaitedForWithSwapWhenReady) {
   DictionaryOptions options;
-  options.rebuild_delay = 1000000;
+  options.rebuild_delay = 2;
   options.rebuild_swap_when_ready = true;
   auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
   index->Add(Ids(1, 200), RandomPoints(200, 8, 6));
@@ -161,7 +161,7 @@ TEST(WordIndexTest, BackgroundRebuildCanBeUsedAsSoonAsItIsReady) {
 // at a time, so that the build ends however slow the machine is.
 TEST(WordIndexTest, CatchUpInRoundsKeepsEveryWordAndNoRemovedOne) {
   DictionaryOptions options;
-  options.rebuild_delay = 1000000;
+  options.rebuild_delay = 1;  // late from the second Add on: the rounds' case
   options.rebuild_swap_when_ready = true;
   auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
   cv::Mat points = RandomPoints(3000, 8, 11);

@@ -2,8 +2,11 @@
 //              [--time-limit-ms T] [--ignored-as-true]
 // memloop report RUN.csv GROUND_TRUTH [--format ...] [--out report.html] [--time-limit-ms T]
 //              [--ignored-as-true]
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -129,6 +132,28 @@ void AddIgnoredAsTrueFlag(CLI::App& command, bool* ignored_as_true) {
 
 }  // namespace
 
+namespace {
+
+// Written beside `path`, then renamed over it: a failed write leaves no partial file and keeps
+// what was there.
+void WriteWhole(const std::string& path, const std::string& text) {
+  std::error_code ignored;
+  const bool device = std::filesystem::exists(path, ignored) &&
+                      !std::filesystem::is_regular_file(path, ignored);  // e.g. /dev/stdout
+  const std::string temporary = device ? path : path + ".tmp";
+  errno = 0;
+  std::ofstream out(temporary, std::ios::trunc);
+  out << text;
+  out.close();  // checks the last buffer's write too
+  if (!out || (!device && std::rename(temporary.c_str(), path.c_str()) != 0)) {
+    const std::string reason = errno != 0 ? std::strerror(errno) : "unknown error";
+    if (!device) std::remove(temporary.c_str());
+    throw InputError(path, "cannot write the report (" + reason + ")");
+  }
+}
+
+}  // namespace
+
 void AddReportCommand(CLI::App& app) {
   struct Arguments {
     std::string run;
@@ -150,6 +175,15 @@ void AddReportCommand(CLI::App& app) {
   AddTimeLimitOption(*report, &arguments->time_limit_ms);
   AddIgnoredAsTrueFlag(*report, &arguments->ignored_as_true);
   report->callback([arguments] {
+    for (const std::string* input : {&arguments->run, &arguments->ground_truth}) {
+      std::error_code error;
+      if (std::filesystem::equivalent(arguments->out, *input, error)) {
+        throw InputError(arguments->out,
+                         "is an input of the report too: give --out another file (it would be "
+                         "overwritten)");
+      }
+    }
+    RunCsvWriter::CheckCanCreate(arguments->out);
     const Evaluated evaluated = Evaluate(arguments->run, arguments->ground_truth, arguments->format,
                                          arguments->time_limit_ms, arguments->ignored_as_true);
     ReportOptions options;
@@ -158,10 +192,7 @@ void AddReportCommand(CLI::App& app) {
     options.ignored_as_true = arguments->ignored_as_true;
     const std::string page =
         MakeReport(evaluated.rows, evaluated.truth, evaluated.evaluation, options);
-    std::ofstream out(arguments->out);
-    out << page;
-    out.close();  // checks the last buffer's write too
-    if (!out) throw InputError(arguments->out, "cannot write the report (disk full?)");
+    WriteWhole(arguments->out, page);
     std::cout << "wrote " << arguments->out << "\n";
   });
 }

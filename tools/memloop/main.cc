@@ -3,10 +3,11 @@
 // error of input, map or output ("memloop: error: ..." names the file); 2 a command-line usage
 // error; 130 / 143 a run stopped by SIGINT / SIGTERM (results and map complete up to the last
 // image).
+#include <malloc.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
-#include <malloc.h>
 #include <opencv2/core/utils/logger.hpp>
 
 #include "commands.h"
@@ -53,6 +54,18 @@ int main(int argc, char** argv) {
   memloop::cli::AddEvalCommand(app);
   memloop::cli::AddReportCommand(app);
   memloop::cli::AddInspectCommand(app);
+  // CLI11 says only "A subcommand is required" for an unknown first word: name it.
+  if (argc > 1 && argv[1][0] != '-' &&
+      app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; })
+          .empty()) {
+    std::string names;
+    for (const CLI::App* command : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + command->get_name();
+    }
+    std::cerr << "memloop: error: unknown command '" << argv[1] << "' (commands: " << names
+              << "; see memloop --help)\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

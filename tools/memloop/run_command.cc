@@ -1,6 +1,8 @@
 // memloop run IMAGES_DIR|VIDEO_FILE|--camera N [--rate HZ] [--db FILE [--resume]]
 //             [--config FILE] [--set NAME=VALUE ...] [--out FILE.csv]
 // With --set memory.localization=1 and --db MAP, images are localized against MAP, unchanged.
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include "commands.h"
@@ -11,6 +13,22 @@
 #include "session.h"
 
 namespace memloop::cli {
+namespace {
+
+// CLI11's PositiveNumber lets NaN through and names its bound as a 309-digit number.
+CLI::Validator Number(const std::string& what, double min, bool min_allowed) {
+  return CLI::Validator(
+      [what, min, min_allowed](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        const bool number = end != text.c_str() && *end == '\0' && std::isfinite(value);
+        if (number && (value > min || (min_allowed && value == min))) return "";
+        return "must be " + what + ", not '" + text + "'";
+      },
+      what);
+}
+
+}  // namespace
 
 void AddRunCommand(CLI::App& app) {
   struct Arguments {
@@ -31,12 +49,12 @@ void AddRunCommand(CLI::App& app) {
   CLI::Option* camera =
       run->add_option("--camera", arguments->camera,
                       "Live camera number (0 = the first) instead of an input; stop with Ctrl-C")
-          ->check(CLI::NonNegativeNumber);
+          ->check(Number("a camera number (0 or more)", 0, true));
   input->excludes(camera);
   run->add_option("--rate", arguments->rate_hz,
                   "Frames per second to take from a video (by timestamp) or a camera (the paper: "
                   "1); default every frame")
-      ->check(CLI::PositiveNumber);
+      ->check(Number("a number of frames per second over 0", 0, false));
   CLI::Option* database =
       run->add_option("--db", arguments->database,
                       "Map database file (the Long-Term Memory): a new file, or with --resume or "

@@ -69,6 +69,33 @@ class TemporaryDatabase {
   std::string path_;
 };
 
+// The results file and the map must be two files (the CSV would overwrite the map, or the map
+// the CSV).
+void CheckDistinct(const std::string& csv_path, const std::string& database_path) {
+  if (database_path.empty()) return;
+  std::error_code error;
+  const bool same =
+      fs::exists(csv_path, error) && fs::exists(database_path, error)
+          ? fs::equivalent(csv_path, database_path, error)
+          : fs::weakly_canonical(csv_path, error) == fs::weakly_canonical(database_path, error);
+  if (same) {
+    throw InputError(csv_path, "is the map (--db) too: give the results (--out) another file");
+  }
+}
+
+// Runs a write of the CSV; when it fails (a full disk), the map closes at the checkpoint of the
+// image before, which the CSV holds: the map is never ahead of the CSV, and --resume goes on
+// from the first image whose row is missing.
+template <typename Write>
+void KeepMapBehind(Detector& detector, Write write) {
+  try {
+    write();
+  } catch (...) {
+    detector.CloseAtLastCheckpoint();
+    throw;
+  }
+}
+
 }  // namespace
 
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
@@ -82,8 +109,14 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
                              : "--resume extends the map, memory.localization=1 does not: use "
                                "one or the other");
   }
-  // Outputs are checked before anything is created: a refused run leaves no file behind.
+  // Outputs are checked before anything is created or opened for writing: a refused run leaves
+  // no file behind and changes none.
+  if (!csv_path.empty()) CheckDistinct(csv_path, database_path);
   if (!csv_path.empty() && !session.resume) RunCsvWriter::CheckCanCreate(csv_path);
+  if (!csv_path.empty() && session.resume) {
+    const MapProgress progress = ReadMapProgress(database_path);
+    RunCsvWriter::CheckContinues(csv_path, progress.last_image, progress.images_processed);
+  }
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
   const std::string& map_path = temporary ? temporary->path() : database_path;
@@ -134,14 +167,14 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       ++loop_closures;
       if (session.print_loop_closures) progress.Print(result.Brief(), stdout);
     }
-    if (csv) csv->Write(frame.name, result);
+    if (csv) KeepMapBehind(*detector, [&] { csv->Write(frame.name, result); });
     report.names.push_back(frame.name);
     report.results.push_back(std::move(result));
     progress.Update(frame.index + 1, loop_closures);
   }
   report.interrupted_by = interrupt.signal();
+  if (csv) KeepMapBehind(*detector, [&] { csv->Close(); });
   detector->Close();
-  if (csv) csv->Close();
   return report;
 }
 

@@ -1,0 +1,194 @@
+// Refused runs change no byte of any file and create none; the map is never ahead of the CSV
+// (issue 35).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "cli_helpers.h"
+#include "memloop/detector.h"
+#include "memloop/synthetic_route.h"
+#include "short_route.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every file of a folder (recursively) with its bytes: compared before and after a refusal.
+std::map<std::string, std::string> FolderState(const std::string& folder) {
+  std::map<std::string, std::string> state;
+  for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+    std::error_code error;  // a looping symlink has no type
+    if (entry.is_regular_file(error))
+      state[entry.path().string()] = ReadFile(entry.path().string());
+  }
+  return state;
+}
+
+// The files that differ between two states, by name: for a readable failure message.
+std::string Differences(const std::map<std::string, std::string>& before,
+                        const std::map<std::string, std::string>& after) {
+  std::string text;
+  for (const auto& [path, bytes] : after) {
+    const auto old = before.find(path);
+    if (old == before.end())
+      text += " created " + path;
+    else if (old->second != bytes)
+      text += " changed " + path;
+  }
+  for (const auto& [path, bytes] : before) {
+    if (!after.count(path)) text += " removed " + path;
+  }
+  return text;
+}
+
+// Lines of a refusal's output, CLI11's "Run with --help" hint after a usage error aside.
+int MessageLines(const std::string& output) {
+  std::istringstream in(output);
+  int count = 0;
+  for (std::string line; std::getline(in, line);) {
+    count += !line.empty() && !Contains(line, "Run with --help");
+  }
+  return count;
+}
+
+class RefusalTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    folder_ = new testing::TempDir();
+    SyntheticRoute(testing::ShortRoute()).Write(folder_->path().string());
+  }
+  static void TearDownTestSuite() { delete folder_; }
+  static std::string Images() { return folder_->File("images"); }
+
+  // Runs `arguments`, expects exit `code` with one error line containing `message`, and no
+  // file of the test's folder created, changed or removed.
+  void ExpectRefusedUntouched(const std::string& arguments, int code, const std::string& message) {
+    const auto before = FolderState(dir_.path().string());
+    const Outcome outcome = Memloop(arguments);
+    EXPECT_EQ(outcome.exit_code, code) << arguments << "\n" << outcome.output;
+    EXPECT_TRUE(Contains(outcome.output, message)) << arguments << "\n" << outcome.output;
+    EXPECT_EQ(MessageLines(outcome.output), 1) << arguments << "\n" << outcome.output;
+    EXPECT_EQ(Differences(before, FolderState(dir_.path().string())), "") << arguments;
+  }
+
+  static testing::TempDir* folder_;
+  testing::TempDir dir_;
+};
+testing::TempDir* RefusalTest::folder_ = nullptr;
+
+const char kSettings[] = " --set memory.time_limit_ms=0 memory.max_wm_locations=30";
+
+// Before: an existing map was refused after SQLite had left an empty -wal and a 32 KB -shm
+// beside it; --resume with another tool's CSV grew the map by 4 KB; --db X --out X, --rate nan
+// and report --out INPUT exited 0.
+TEST_F(RefusalTest, RefusedRunsChangeAndCreateNoFile) {
+  const std::string map = dir_.File("map.db");
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + kSettings + " --db " + map + " --out " + csv).exit_code, 0);
+  ExpectRefusedUntouched("run " + Images() + " --db " + map, 1, "already holds a memloop map");
+  ExpectRefusedUntouched("run " + Images() + " --db " + map + " --resume --set features.type=orb",
+                         1, "features.type (map: surf, given: orb)");
+  ExpectRefusedUntouched("run " + Images() + " --db " + map +
+                             " --preset paper2011 --set "
+                             "memory.localization=1",
+                         1, "--preset");
+  const std::string other = dir_.File("other_tool.csv");
+  std::ofstream(other) << "time,x,y\n0,1,2\n";
+  ExpectRefusedUntouched("run " + Images() + " --db " + map + " --resume --out " + other, 1,
+                         "not a results CSV of this memloop");
+  ExpectRefusedUntouched(
+      "run " + Images() + " --db " + dir_.File("same.db") + " --out " + dir_.File("same.db"), 1,
+      "is the map (--db) too");
+  ExpectRefusedUntouched("run " + Images() + " --db " + map + " --out " + map, 1,
+                         "is the map (--db) too");
+  ExpectRefusedUntouched("run " + Images() + " --rate nan", 2, "--rate");
+  ExpectRefusedUntouched("run --camera -1", 2, "a camera number (0 or more)");
+  ExpectRefusedUntouched("frobnicate", 2, "unknown command 'frobnicate' (commands: run, demo");
+  ExpectRefusedUntouched(
+      "report " + csv + " " + folder_->File("ground_truth_pairs.csv") + " --out " + csv, 1,
+      "is an input of the report too");
+}
+
+// A CSV that lost its last rows (a full disk cut it) or belongs to another run is refused by
+// --resume before anything is touched: the map would go on after rows the CSV lacks.
+TEST_F(RefusalTest, ResumeRefusesACsvThatIsNotTheMapsOwn) {
+  const std::string map = dir_.File("map.db");
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + kSettings + " --db " + map + " --out " + csv).exit_code, 0);
+  const std::string whole = ReadFile(csv);
+  // The last two rows gone: the map holds images the CSV does not.
+  std::string cut = whole.substr(0, whole.rfind('\n', whole.size() - 2) + 1);
+  cut = cut.substr(0, cut.rfind('\n', cut.size() - 2) + 1);
+  std::ofstream(csv, std::ios::trunc) << cut;
+  ExpectRefusedUntouched("run " + Images() + " --db " + map + " --resume --out " + csv, 1,
+                         "the rows between are lost");
+  // Another run's CSV, with more rows than this map has images.
+  std::ofstream(csv, std::ios::trunc) << whole << whole.substr(whole.find('\n') + 1);
+  ExpectRefusedUntouched("run " + Images() + " --db " + map + " --resume --out " + csv, 1,
+                         "is not this map's results");
+}
+
+// A looping symlink among the images is skipped and counted like a corrupt image (before, it
+// stopped the whole run); a map left empty by a run killed before its first image says to start
+// afresh.
+TEST_F(RefusalTest, LoopingSymlinkIsSkippedAndEmptyMapSaysWhatToDo) {
+  const std::string images = dir_.File("images");
+  fs::create_directories(images);
+  int copied = 0;
+  for (const auto& entry : fs::directory_iterator(Images())) {
+    if (copied++ < 6) fs::copy_file(entry.path(), images + "/" + entry.path().filename().string());
+  }
+  fs::create_symlink(images + "/loop.png", images + "/loop.png");
+  const Outcome run = Memloop("run " + images + kSettings);
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(Contains(run.output, "warning: skipping loop.png")) << run.output;
+  EXPECT_TRUE(Contains(run.output, "6 processed, 1 skipped")) << run.output;
+
+  std::ofstream(dir_.File("empty.db")).close();
+  ExpectRefusedUntouched("run " + images + " --resume --db " + dir_.File("empty.db"), 1,
+                         "run without --resume to start the map afresh");
+}
+
+// The checkpoint of an image is written by the next Process(): a caller that cannot store a
+// result closes at the checkpoint before it, and the map goes on from that image as if never
+// stopped (before: the map held the image whose CSV row a full disk had cut, and --resume went
+// on after it, the row lost).
+TEST(MapBehindResultsTest, CloseAtLastCheckpointLeavesTheMapAtTheImageBefore) {
+  const SyntheticRoute route(testing::ShortRoute());
+  Options options;
+  options.memory.time_limit_ms = 0;
+  options.memory.max_wm_locations = 30;
+  std::vector<Result> whole;
+  {
+    testing::TempDir dir;
+    Detector detector(options, dir.File("whole.db"));
+    for (int i = 0; i < 40; ++i) whole.push_back(detector.Process(route.Render(i), i));
+  }
+  testing::TempDir dir;
+  const std::string map = dir.File("map.db");
+  {
+    Detector detector(options, map);
+    for (int i = 0; i < 25; ++i) detector.Process(route.Render(i), i);
+    detector.CloseAtLastCheckpoint();  // image 24's result could not be stored
+  }
+  EXPECT_EQ(ReadMapProgress(map).last_image, 23);
+  EXPECT_EQ(ReadMapProgress(map).images_processed, 24);
+  Detector resumed(ReadMapOptions(map), map, MapMode::kResume);
+  ASSERT_EQ(resumed.last_image(), 23);
+  for (int i = 24; i < 40; ++i) {
+    const Result result = resumed.Process(route.Render(i), i);
+    EXPECT_EQ(result.loop_closure_id, whole[i].loop_closure_id) << "image " << i;
+    EXPECT_EQ(result.location_id, whole[i].location_id) << "image " << i;
+    EXPECT_EQ(result.wm_size, whole[i].wm_size) << "image " << i;
+  }
+  EXPECT_TRUE(resumed.CheckConsistency().empty());
+}
+
+}  // namespace
+}  // namespace memloop
