@@ -1,6 +1,7 @@
 // Refused runs change no byte of any file and create none; the map is never ahead of the CSV
 // (issue 35).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -153,6 +154,39 @@ TEST_F(RefusalTest, LoopingSymlinkIsSkippedAndEmptyMapSaysWhatToDo) {
   std::ofstream(dir_.File("empty.db")).close();
   ExpectRefusedUntouched("run " + images + " --resume --db " + dir_.File("empty.db"), 1,
                          "run without --resume to start the map afresh");
+}
+
+// The CSV on a full disk (tests/full_disk_shim.cc: writes to it fail with ENOSPC past 8,192
+// bytes, the last row cut) while the map's disk has room: the run stops with exit 1 naming the
+// CSV, the map stays at the image before the cut row, and --resume writes every row of an
+// uninterrupted run (before: the map held the cut row's image, --resume went on after it and the
+// CSV lacked that row: 83 rows of 84).
+TEST_F(RefusalTest, CsvOnAFullDiskThenResumeLosesNoRow) {
+  const std::string map = dir_.File("map.db");
+  const std::string csv = fs::canonical(dir_.path()).string() + "/run.csv";
+  const std::string whole = dir_.File("whole.csv");
+  ASSERT_EQ(Memloop("run " + Images() + kSettings + " --out " + whole).exit_code, 0);
+  Outcome full;
+  const std::string command = std::string("LD_PRELOAD=") + FULL_DISK_SHIM +
+                              " FULL_DISK_FILE=" + csv + " FULL_DISK_BYTES=8192 " + MEMLOOP_CLI +
+                              " run " + Images() + kSettings + " --db " + map + " --out " + csv +
+                              " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  for (size_t read = 0; (read = fread(buffer, 1, sizeof(buffer), pipe)) > 0;) {
+    full.output.append(buffer, read);
+  }
+  const int status = pclose(pipe);
+  full.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  EXPECT_EQ(full.exit_code, 1) << full.output;
+  EXPECT_TRUE(Contains(full.output, csv + ": writing the results failed")) << full.output;
+  ASSERT_EQ(fs::file_size(csv), 8192u);
+  ASSERT_LT(CsvRows(csv), CsvRows(whole));
+  EXPECT_LE(ReadMapProgress(map).last_image, CsvRows(csv) - 1) << "the map is ahead of the CSV";
+  const Outcome resumed =
+      Memloop("run " + Images() + " --db " + map + " --out " + csv + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(WithoutTimes(ReadFile(csv)), WithoutTimes(ReadFile(whole)));
 }
 
 // The checkpoint of an image is written by the next Process(): a caller that cannot store a
