@@ -25,15 +25,21 @@ struct Outcome {
   std::string output;  // stdout and stderr
 };
 
-inline Outcome Memloop(const std::string& arguments) {
+// `environment`: "NAME=value ..." set for the tool only.
+inline Outcome MemloopWithEnvironment(const std::string& environment,
+                                      const std::string& arguments) {
   Outcome outcome;
-  FILE* pipe = popen((std::string(MEMLOOP_CLI) + " " + arguments + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((environment + " " + MEMLOOP_CLI + " " + arguments + " 2>&1").c_str(), "r");
   char buffer[4096];
   size_t read = 0;
   while ((read = fread(buffer, 1, sizeof(buffer), pipe)) > 0) outcome.output.append(buffer, read);
   const int status = pclose(pipe);
   outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return outcome;
+}
+
+inline Outcome Memloop(const std::string& arguments) {
+  return MemloopWithEnvironment("", arguments);
 }
 
 inline std::string ReadFile(const std::string& path) { return testing::ReadBytes(path); }

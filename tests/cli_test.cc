@@ -16,26 +16,14 @@
 #include "cli_helpers.h"
 #include "memloop/detector.h"
 #include "memloop/synthetic_route.h"
+#include "route_images_test.h"
 #include "short_route.h"
 #include "temp_dir.h"
 
 namespace memloop {
 namespace {
 
-class CliTest : public ::testing::Test {
- protected:
-  // A small route written as images, shared by the tests of this suite.
-  static void SetUpTestSuite() {
-    folder_ = new testing::TempDir();
-    SyntheticRoute(testing::ShortRoute()).Write(folder_->path().string());
-  }
-  static void TearDownTestSuite() { delete folder_; }
-  static std::string Images() { return folder_->File("images"); }
-
-  static testing::TempDir* folder_;
-  testing::TempDir dir_;
-};
-testing::TempDir* CliTest::folder_ = nullptr;
+class CliTest : public testing::RouteImagesTest<CliTest> {};
 
 TEST_F(CliTest, ParamsListsTheRegistry) {
   const Outcome table = Memloop("params");

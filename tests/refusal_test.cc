@@ -12,6 +12,7 @@
 #include "cli_helpers.h"
 #include "memloop/detector.h"
 #include "memloop/synthetic_route.h"
+#include "route_images_test.h"
 #include "short_route.h"
 #include "temp_dir.h"
 
@@ -58,15 +59,8 @@ int MessageLines(const std::string& output) {
   return count;
 }
 
-class RefusalTest : public ::testing::Test {
+class RefusalTest : public testing::RouteImagesTest<RefusalTest> {
  protected:
-  static void SetUpTestSuite() {
-    folder_ = new testing::TempDir();
-    SyntheticRoute(testing::ShortRoute()).Write(folder_->path().string());
-  }
-  static void TearDownTestSuite() { delete folder_; }
-  static std::string Images() { return folder_->File("images"); }
-
   // Runs `arguments`, expects exit `code` with one error line containing `message`, and no
   // file of the test's folder created, changed or removed.
   void ExpectRefusedUntouched(const std::string& arguments, int code, const std::string& message) {
@@ -77,11 +71,7 @@ class RefusalTest : public ::testing::Test {
     EXPECT_EQ(MessageLines(outcome.output), 1) << arguments << "\n" << outcome.output;
     EXPECT_EQ(Differences(before, FolderState(dir_.path().string())), "") << arguments;
   }
-
-  static testing::TempDir* folder_;
-  testing::TempDir dir_;
 };
-testing::TempDir* RefusalTest::folder_ = nullptr;
 
 const char kSettings[] = " --set memory.time_limit_ms=0 memory.max_wm_locations=30";
 
@@ -166,18 +156,10 @@ TEST_F(RefusalTest, CsvOnAFullDiskThenResumeLosesNoRow) {
   const std::string csv = fs::canonical(dir_.path()).string() + "/run.csv";
   const std::string whole = dir_.File("whole.csv");
   ASSERT_EQ(Memloop("run " + Images() + kSettings + " --out " + whole).exit_code, 0);
-  Outcome full;
-  const std::string command = std::string("LD_PRELOAD=") + FULL_DISK_SHIM +
-                              " FULL_DISK_FILE=" + csv + " FULL_DISK_BYTES=8192 " + MEMLOOP_CLI +
-                              " run " + Images() + kSettings + " --db " + map + " --out " + csv +
-                              " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  for (size_t read = 0; (read = fread(buffer, 1, sizeof(buffer), pipe)) > 0;) {
-    full.output.append(buffer, read);
-  }
-  const int status = pclose(pipe);
-  full.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const Outcome full =
+      MemloopWithEnvironment(std::string("LD_PRELOAD=") + FULL_DISK_SHIM +
+                                 " FULL_DISK_FILE=" + csv + " FULL_DISK_BYTES=8192",
+                             "run " + Images() + kSettings + " --db " + map + " --out " + csv);
   EXPECT_EQ(full.exit_code, 1) << full.output;
   EXPECT_TRUE(Contains(full.output, csv + ": writing the results failed")) << full.output;
   ASSERT_EQ(fs::file_size(csv), 8192u);

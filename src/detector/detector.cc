@@ -181,8 +181,8 @@ class Detector::Impl {
   // The paper's Fig. 1, one call per box. The resume checkpoint of this image's state is written
   // at the start of the next one (StartIteration): see Detector::Process.
   Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
-    Stopwatch iteration;
     Result result = StartIteration(image_index);
+    const Stopwatch& iteration = iteration_;
     const LocationId t = CreateLocation(gray, result);      // III-A
     Rehearse(t, result);                                    // III-B, eq. 1
     memory_.MoveStmOverflowToWm(options_.memory.stm_size);  // STM -> WM
@@ -204,8 +204,8 @@ class Detector::Impl {
   // nothing is written. Retrieval and transfer still move locations between WM and LTM (III-E,
   // F), in memory only: LTM is read-only and keeps what leaves WM in its overlay.
   Result Localize(const cv::Mat& gray, ImageIndex image_index) {
-    Stopwatch iteration;
     Result result = StartIteration(image_index);
+    const Stopwatch& iteration = iteration_;
     Appearance appearance;
     const Signature z_t = MatchImage(gray, result, &appearance);              // III-A
     const Likelihood likelihood = ComputeObservation(z_t, result);            // eq. 3, 4
