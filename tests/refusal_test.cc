@@ -1,11 +1,13 @@
 // Refused runs change no byte of any file and create none; the map is never ahead of the CSV
 // (issue 35).
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -104,6 +106,125 @@ TEST_F(RefusalTest, RefusedRunsChangeAndCreateNoFile) {
   ExpectRefusedUntouched(
       "report " + csv + " " + folder_->File("ground_truth_pairs.csv") + " --out " + csv, 1,
       "is an input of the report too");
+}
+
+// Runs `sql` on a copy of a map, as a tool that edits the file would.
+void Edit(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* message = nullptr;
+  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
+      << (message ? message : "");
+  sqlite3_free(message);
+  sqlite3_close(db);
+}
+
+// Damaged, truncated and newer maps, and a damaged resume checkpoint: every use of them is
+// refused with one line, and no file is created or changed (before: SQLite left an empty -wal
+// and a 32 KB -shm beside each, and inspect printed the whole quick_check report, up to 101
+// lines; on a damaged checkpoint it said "integrity: ok" while --resume refused the map).
+TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
+  const std::string map = dir_.File("map.db");
+  ASSERT_EQ(Memloop("run " + Images() + kSettings + " --db " + map).exit_code, 0);
+  const std::string bytes = ReadFile(map);
+  ASSERT_GT(bytes.size(), 40u * 4096);
+  const auto copy = [&](const std::string& name, const std::string& content) {
+    std::ofstream(dir_.File(name), std::ios::binary) << content;
+    return dir_.File(name);
+  };
+  std::string scrambled = bytes;  // 20 pages of noise in the middle of the file
+  for (size_t i = 16 * 4096; i < 36 * 4096; ++i)
+    scrambled[i] = static_cast<char>(i * 2654435761u >> 13);
+  const std::string damaged = copy("damaged.db", scrambled);
+  const std::string truncated = copy("truncated.db", bytes.substr(0, bytes.size() / 2));
+  const std::string newer = copy("newer.db", bytes);
+  Edit(newer, "PRAGMA user_version=5; UPDATE info SET value='5' WHERE key='format_version'");
+  const std::string checkpoint = copy("checkpoint.db", bytes);
+  Edit(checkpoint, "UPDATE resume_state SET value=x'0102' WHERE key='counters'");
+
+  const std::string run = "run " + Images() + kSettings;
+  const std::vector<std::pair<std::string, std::string>> problems = {
+      {damaged, ": the map is damaged ("}, {truncated, ": the map is truncated: 3"}};
+  for (const auto& [path, problem] : problems) {
+    for (const std::string& use :
+         {run + " --db " + path + " --resume",
+          run + " --db " + path + " --set memory.localization=1", "inspect " + path}) {
+      ExpectRefusedUntouched(use, 1, path + problem);
+    }
+  }
+  EXPECT_TRUE(Contains(Memloop("inspect " + damaged).output,
+                       " problems found by SQLite's quick_check, the first: Page "));
+  for (const std::string& use :
+       {run + " --db " + newer + " --resume",
+        run + " --db " + newer + " --set memory.localization=1", "inspect " + newer}) {
+    ExpectRefusedUntouched(use, 1, newer + ": map format 5 is newer than this memloop's (4)");
+  }
+  ExpectRefusedUntouched(run + " --db " + checkpoint + " --resume", 1,
+                         checkpoint + ": cannot resume: the map is damaged (");
+  ExpectRefusedUntouched(run + " --db " + map + " --resume --set memory.localization=1", 1,
+                         "--resume extends the map, memory.localization=1 does not");
+  // inspect shows what the LTM of a map with a damaged checkpoint holds, and exits 1 saying why.
+  const auto before = FolderState(dir_.path().string());
+  const Outcome inspect = Memloop("inspect " + checkpoint);
+  EXPECT_EQ(inspect.exit_code, 1) << inspect.output;
+  EXPECT_TRUE(Contains(inspect.output, "integrity: resume checkpoint damaged (")) << inspect.output;
+  EXPECT_TRUE(Contains(inspect.output, "memloop: error: " + checkpoint +
+                                           ": resume checkpoint damaged (the checkpoint's "
+                                           "counters is truncated): --resume refuses it"))
+      << inspect.output;
+  EXPECT_EQ(Differences(before, FolderState(dir_.path().string())), "");
+  EXPECT_TRUE(Contains(Memloop("inspect " + map).output, "integrity: ok)"));
+}
+
+// `arguments` run with `folder` mounted read-only, in a mount namespace of their own (needs
+// the privilege to mount: none when unshare is refused).
+std::optional<Outcome> MemloopWithFolderReadOnly(const std::string& folder,
+                                                 const std::string& arguments) {
+  const std::string mount = "mount --bind " + folder + " " + folder +
+                            " && mount -o remount,ro,bind " + folder + " " + folder;
+  if (std::system(("unshare -m sh -c '" + mount + "' >/dev/null 2>&1").c_str()) != 0) {
+    return std::nullopt;
+  }
+  return MemloopWithEnvironment("unshare -m sh -c '" + mount + " && exec \"$0\" \"$@\"'",
+                                arguments);
+}
+
+// A sound map on a read-only file system is inspected and localized against (before: "not an
+// SQLite database, or its header is damaged", as SQLite's WAL mode wanted to write a -shm file);
+// one with a killed run's -wal, which SQLite cannot read without writing its -shm index beside
+// it, is refused naming that cause.
+TEST_F(RefusalTest, MapOnAReadOnlyFileSystemIsReadOrTheCauseNamed) {
+  const std::string folder = fs::canonical(dir_.path()).string() + "/maps";
+  fs::create_directories(folder);
+  const std::string map = folder + "/map.db";
+  ASSERT_EQ(Memloop("run " + Images() + kSettings + " --db " + map).exit_code, 0);
+  const std::optional<Outcome> inspect = MemloopWithFolderReadOnly(folder, "inspect " + map);
+  if (!inspect) GTEST_SKIP() << "no privilege to mount a folder read-only (unshare -m)";
+  EXPECT_EQ(inspect->exit_code, 0) << inspect->output;
+  EXPECT_TRUE(Contains(inspect->output, "integrity: ok)")) << inspect->output;
+  const Outcome localize = *MemloopWithFolderReadOnly(
+      folder, "run " + Images() + " --db " + map + " --set memory.localization=1");
+  EXPECT_EQ(localize.exit_code, 0) << localize.output;
+  EXPECT_TRUE(Contains(localize.output, "loop closures: ")) << localize.output;
+
+  // A -wal with content: a copy of the map's log while a writer holds it open.
+  sqlite3* writer = nullptr;
+  ASSERT_EQ(sqlite3_open(map.c_str(), &writer), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(writer, "PRAGMA wal_autocheckpoint=0; INSERT INTO info VALUES('note', 'x')",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
+  const std::string copy = folder + "/copy.db";
+  fs::copy_file(map, copy);
+  fs::copy_file(map + "-wal", copy + "-wal");
+  sqlite3_close(writer);
+  const auto before = FolderState(dir_.path().string());
+  const Outcome refused = *MemloopWithFolderReadOnly(folder, "inspect " + copy);
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_TRUE(Contains(refused.output, copy + ": cannot read the map's write-ahead log"))
+      << refused.output;
+  EXPECT_EQ(MessageLines(refused.output), 1) << refused.output;
+  EXPECT_EQ(Differences(before, FolderState(dir_.path().string())), "");
 }
 
 // A CSV that lost its last rows (a full disk cut it) or belongs to another run is refused by

@@ -20,7 +20,9 @@ struct MapLoopClosure {
 struct MapInfo {
   std::string path;
   int format_version = 0;
-  std::string integrity;    // "ok": SQLite's quick_check found nothing wrong
+  // "ok": SQLite's quick_check and a read of the whole resume checkpoint found nothing wrong;
+  // else "resume checkpoint damaged (the problem)": the LTM is readable, --resume refuses it.
+  std::string integrity;
   long long images = 0;     // images the map's locations hold
   long long locations = 0;  // in the Long-Term Memory (all of them after Detector::Close)
   long long checkpoint_locations = 0;  // STM/WM of the last checkpoint (resume state)
@@ -33,7 +35,8 @@ struct MapInfo {
 };
 
 // Opens `path` read-only (its bytes never change). Throws DatabaseError naming the file when it
-// is not a memloop map, is of a newer format, or is damaged.
+// is not a memloop map, is of a newer format, or SQLite finds it damaged; a damaged checkpoint
+// is said in `integrity` (what LTM holds is still read).
 MapInfo InspectMap(const std::string& path);
 
 }  // namespace memloop

@@ -276,7 +276,13 @@ std::vector<unsigned char> RequiredState(LtmDatabase& database, const std::strin
   return std::move(*value);
 }
 
-void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState& state) {
+// How the dictionary's descriptors are stored: one row of `dim` elements of OpenCV type `cv_type`.
+struct DescriptorFormat {
+  int dim = 0;
+  int cv_type = 0;
+};
+
+void ReadIndex(LtmDatabase& database, std::optional<DescriptorFormat> format, ResumeState& state) {
   const std::vector<unsigned char> bytes = RequiredState(database, kIndex);
   ByteReader reader(bytes, "the checkpoint's index entry");
   IndexHistory& index = state.index;
@@ -302,10 +308,12 @@ void ReadIndex(LtmDatabase& database, const Dictionary& dictionary, ResumeState&
   const std::vector<CheckpointData::Point> points =
       database.ReadIndexPoints();  // descriptors joined
   if (points.size() != index.point_count) throw Error("its checkpoint's index points are missing");
-  const size_t row_bytes = static_cast<size_t>(dictionary.descriptor_dim()) *
-                           CV_ELEM_SIZE(dictionary.descriptor_cv_type());
-  index.descriptors.create(static_cast<int>(points.size()), dictionary.descriptor_dim(),
-                           dictionary.descriptor_cv_type());
+  // Without the dictionary (inspect), every row must be as long as the first.
+  if (!format)
+    format =
+        DescriptorFormat{points.empty() ? 1 : static_cast<int>(points[0].descriptor.size()), CV_8U};
+  const size_t row_bytes = static_cast<size_t>(format->dim) * CV_ELEM_SIZE(format->cv_type);
+  index.descriptors.create(static_cast<int>(points.size()), format->dim, format->cv_type);
   for (size_t k = 0; k < points.size(); ++k) {
     if (points[k].point != static_cast<long long>(k) || points[k].descriptor.size() != row_bytes) {
       throw Error("index point " + std::to_string(points[k].point) +
@@ -326,7 +334,7 @@ void ReadCounters(const std::vector<unsigned char>& bytes, ResumeState& state) {
   reader.ExpectEnd();
 }
 
-ResumeState ReadState(LtmDatabase& database, const Dictionary& dictionary) {
+ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> format) {
   ResumeState state;
   ReadCounters(RequiredState(database, kCounters), state);
   {
@@ -346,7 +354,7 @@ ResumeState ReadState(LtmDatabase& database, const Dictionary& dictionary) {
     if (blocks.size() > WordBitset::kChunkIds / 64) throw Error("a chunk of marks is too long");
     WordBitset::AppendChunkIds(chunk, blocks, state.words_referenced_by_ltm);
   }
-  ReadIndex(database, dictionary, state);
+  ReadIndex(database, format, state);
   {
     const std::vector<unsigned char> bytes = RequiredState(database, kFilter);
     ByteReader reader(bytes, "the checkpoint's filter");
@@ -397,7 +405,8 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) 
                         "one was committed): start a new map instead");
   }
   try {
-    return ReadState(database, dictionary);
+    return ReadState(
+        database, DescriptorFormat{dictionary.descriptor_dim(), dictionary.descriptor_cv_type()});
   } catch (const DatabaseError&) {
     throw;
   } catch (const Error& error) {
@@ -416,6 +425,17 @@ std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database) {
     throw DatabaseError(database.path(), std::string("the map is damaged (") + error.what() + ")");
   }
   return state.counters;
+}
+
+std::string CheckpointProblem(LtmDatabase& database) {
+  if (database.format_version() < LtmDatabase::kFormatVersion) return "";  // not resumable anyway
+  if (!database.ReadState(kCounters)) return "";
+  try {
+    ReadState(database, std::nullopt);
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
 }
 
 }  // namespace memloop

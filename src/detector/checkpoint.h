@@ -74,6 +74,10 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
 // checkpoint. Throws DatabaseError naming the file when they are damaged.
 std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database);
 
+// What is wrong with the map's resume checkpoint, read whole without the dictionary (inspect):
+// empty when it reads back, or the map holds none or one of an older format.
+std::string CheckpointProblem(LtmDatabase& database);
+
 // The location as a checkpoint row, and back (throws Error when the bytes are not one).
 std::vector<unsigned char> EncodeLocation(const Location& location);
 Location DecodeLocation(const std::vector<unsigned char>& bytes);

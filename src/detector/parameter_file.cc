@@ -4,6 +4,7 @@
 
 #include "memloop/errors.h"
 #include "memloop/params.h"
+#include "util/excerpt.h"
 
 namespace memloop {
 namespace {
@@ -33,6 +34,9 @@ void ApplyParameterFile(Options& options, const std::string& path) {
   for (int number = 1; std::getline(in, line); ++number) {
     const std::string text = Trimmed(WithoutComment(line));
     const std::string where = "line " + std::to_string(number) + ": ";
+    if (line.find('\0') != std::string::npos) {
+      throw InputError(path, where + "holds a NUL byte: a parameter file is text");
+    }
     if (text.empty()) continue;
     if (text.front() == '[') {
       if (text.back() != ']') throw InputError(path, where + "a section must end with ']'");
@@ -41,7 +45,7 @@ void ApplyParameterFile(Options& options, const std::string& path) {
     }
     const size_t equals = text.find('=');
     if (equals == std::string::npos) {
-      throw InputError(path, where + "expected 'name = value', got '" + text + "'");
+      throw InputError(path, where + "expected 'name = value', got '" + Excerpt(text) + "'");
     }
     const std::string name = Trimmed(text.substr(0, equals));
     const std::string key = section.empty() ? name : section + "." + name;

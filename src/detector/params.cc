@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "memloop/errors.h"
+#include "util/excerpt.h"
 
 namespace memloop {
 namespace {
@@ -277,7 +278,7 @@ std::string Parameter::Check(const Options& options) const {
 
 void Parameter::Set(Options& options, const std::string& value) const {
   const auto fail = [&](const std::string& why) {
-    throw ParameterError(key, "Invalid parameter " + key + " = '" + value + "': " + why);
+    throw ParameterError(key, "Invalid parameter " + key + " = '" + Excerpt(value) + "': " + why);
   };
   std::visit(
       [&](auto accessor) {
@@ -333,6 +334,7 @@ size_t EditDistance(const std::string& a, const std::string& b) {
 
 // "; did you mean 'memory.time_limit_ms'?" for a name within 3 edits of one parameter's.
 std::string Suggestion(const std::string& key) {
+  if (key.size() > 64) return "";  // no name is that long; spare the quadratic distance
   const Parameter* nearest = nullptr;
   size_t best = 4;
   for (const Parameter& parameter : Parameters()) {
@@ -350,14 +352,14 @@ std::string Suggestion(const std::string& key) {
 void SetParameter(Options& options, const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
-    throw ParameterError(assignment, "Malformed parameter '" + assignment +
+    throw ParameterError(assignment, "Malformed parameter '" + Excerpt(assignment) +
                                          "': expected NAME=VALUE (see 'memloop params')");
   }
   const std::string key = assignment.substr(0, equals);
   const Parameter* parameter = FindParameter(key);
   if (parameter == nullptr) {
     throw ParameterError(
-        key, "Unknown parameter '" + key + "' (see 'memloop params')" + Suggestion(key));
+        key, "Unknown parameter '" + Excerpt(key) + "' (see 'memloop params')" + Suggestion(key));
   }
   parameter->Set(options, assignment.substr(equals + 1));
 }

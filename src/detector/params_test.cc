@@ -183,6 +183,13 @@ TEST(ParamsTest, ParameterFileAppliesThroughTheRegistry) {
   EXPECT_NE(error_of("[memory]\nstm_size = -4\n").find("line 2: Invalid parameter memory.stm_size"),
             std::string::npos);
   EXPECT_NE(error_of("").find("accepted"), std::string::npos);
+  // Before: the message stopped at the NUL byte, saying nothing of it, and a 10 MB value was
+  // echoed whole.
+  EXPECT_EQ(error_of(std::string("memory.stm_size = 20\0garbage\n", 30)),
+            path + ": line 1: holds a NUL byte: a parameter file is text");
+  EXPECT_EQ(error_of("memory.stm_size = " + std::string(10000000, '9') + "\n"),
+            path + ": line 1: Invalid parameter memory.stm_size = '" + std::string(40, '9') +
+                "... (10000000 characters)': not a number");
   std::remove(path.c_str());
   try {
     ApplyParameterFile(options, path + ".absent");

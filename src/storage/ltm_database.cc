@@ -5,6 +5,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <unordered_map>
 
 #include "memloop/errors.h"
@@ -51,6 +53,32 @@ void CheckIsFileOrAbsent(const std::string& path, LtmDatabase::Mode mode) {
   }
 }
 
+uint32_t BigEndian(const unsigned char* bytes, int count) {
+  uint32_t value = 0;
+  for (int i = 0; i < count; ++i) value = value << 8 | bytes[i];
+  return value;
+}
+
+// An SQLite file shorter than its header says (a copy or download cut short): said as such, not
+// as the "malformed" SQLite would report. The header's page count is valid when its
+// version-valid-for number equals its change counter (https://sqlite.org/fileformat.html).
+void CheckNotTruncated(const std::string& path) {
+  unsigned char header[100] = {};
+  std::ifstream in(path, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(header), sizeof(header))) return;
+  if (std::memcmp(header, "SQLite format 3", 16) != 0) return;
+  const uint32_t page_size = BigEndian(header + 16, 2) == 1 ? 65536 : BigEndian(header + 16, 2);
+  if (BigEndian(header + 92, 4) != BigEndian(header + 24, 4)) return;
+  const unsigned long long expected =
+      static_cast<unsigned long long>(BigEndian(header + 28, 4)) * page_size;
+  const auto size = static_cast<unsigned long long>(FileSize(path));
+  if (size < expected) {
+    throw DatabaseError(path, "the map is truncated: " + std::to_string(size) + " bytes of the " +
+                                  std::to_string(expected) +
+                                  " its header records (a copy cut short?)");
+  }
+}
+
 int ReadInt(SqliteConnection& connection, const std::string& sql) {
   SqliteStatement query(connection, sql);
   return query.Step() ? static_cast<int>(query.Int(0)) : 0;
@@ -63,6 +91,29 @@ std::string ReadText(SqliteConnection& connection, const std::string& sql) {
   } catch (const DatabaseError&) {
     return "";  // no such table: a map older than the row
   }
+}
+
+// SQLite's quick_check in one line: empty when it finds nothing wrong, else the first problem and
+// how many there are (its report is one line per problem, up to 100, after a header line).
+std::string QuickCheckProblems(SqliteConnection& connection) {
+  SqliteStatement check(connection, "PRAGMA quick_check");
+  std::vector<std::string> problems;
+  try {
+    while (check.Step()) {
+      std::istringstream lines(check.Text(0));
+      for (std::string line; std::getline(lines, line);) {
+        if (!line.empty() && line != "ok" && line.rfind("*** in database", 0) != 0)
+          problems.push_back(line);
+      }
+    }
+  } catch (const DatabaseError&) {  // the check itself stopped on a damaged page
+    if (problems.empty()) problems.push_back(sqlite3_errmsg(connection.handle()));
+  }
+  if (problems.empty()) return "";
+  if (problems.size() == 1) return problems.front();
+  const std::string count =
+      problems.size() >= 100 ? "100 or more" : std::to_string(problems.size());
+  return count + " problems found by SQLite's quick_check, the first: " + problems.front();
 }
 
 }  // namespace
@@ -78,6 +129,9 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
     }
     return kFormatVersion;
   }
+  // With a write-ahead log, a killed checkpoint may leave the file short of its new header; the
+  // log still holds the pages.
+  if (ReadableAlone(path)) CheckNotTruncated(path);
   // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in),
   // and, read alone, gets no -wal or -shm beside it.
   SqliteConnection connection(path, SQLITE_OPEN_READONLY, ReadableAlone(path));
@@ -123,9 +177,8 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
                         "another --db path (the existing map is left untouched)");
   }
   if (mode != Mode::kAttach && mode != Mode::kPeek) {
-    SqliteStatement check(connection, "PRAGMA quick_check");
-    const std::string verdict = check.Step() ? check.Text(0) : "no answer";
-    if (verdict != "ok") throw DatabaseError(path, "the map is damaged (" + verdict + ")");
+    const std::string problems = QuickCheckProblems(connection);
+    if (!problems.empty()) throw DatabaseError(path, "the map is damaged (" + problems + ")");
   }
   return version;
 }

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "memloop/errors.h"
 #include "memloop/map_info.h"
 
 namespace memloop::cli {
@@ -75,6 +76,9 @@ void AddInspectCommand(CLI::App& app) {
     } else {
       PrintText(info);
     }
+    // What is shown is readable, but the map cannot be resumed: a nonzero exit for scripts.
+    if (info.integrity != "ok")
+      throw DatabaseError(info.path, info.integrity + ": --resume refuses it");
   });
 }
 
