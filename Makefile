@@ -1,5 +1,5 @@
 # The two commands of the README, for a fresh Debian 12 machine:
-#   make demo   installs what is missing, builds (Release), runs the built-in demo
+#   make demo   installs what is missing, builds the library and CLI (Release), runs the demo
 #   make test   installs what is missing, builds, runs every test through ctest
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
@@ -10,7 +10,7 @@ PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev li
 # cv2 (the Python module's tests read images as a user's script does).
 TEST_PACKAGES := chromium python3-pytest python3-opencv
 
-.PHONY: all deps test-deps install-packages build demo test bench docs format clean
+.PHONY: all deps test-deps install-packages configure build demo test bench docs format clean
 
 all: build
 
@@ -33,12 +33,16 @@ install-packages:
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq $$missing >/dev/null; \
 	fi
 
-build: deps
+configure: deps
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DMEMLOOP_BUILD_TESTS=ON \
 	  -DMEMLOOP_BUILD_BENCHMARKS=ON >/dev/null
+
+build: configure
 	cmake --build $(BUILD_DIR) -j$(JOBS)
 
-demo: build
+# The library and the command-line tool only: no test or benchmark is built.
+demo: configure
+	cmake --build $(BUILD_DIR) -j$(JOBS) --target memloop_cli
 	./$(BUILD_DIR)/memloop demo
 
 test: build test-deps

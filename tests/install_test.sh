@@ -21,6 +21,14 @@ if grep -q matio "$work/build/CMakeFiles/consumer.dir/link.txt"; then
 fi
 "$work/build/consumer" "$work/map.db"
 
+# The Python module, installed where Debian's python3 finds a prefix's modules.
+module=$(find "$work/prefix" -name 'memloop*.so' -path '*dist-packages*')
+[ -n "$module" ] || { echo "the Python module is not installed"; exit 1; }
+PYTHONPATH=$(dirname "$module") /usr/bin/python3 -c \
+  "import memloop; assert any(p['name'] == 'memory.stm_size' for p in memloop.parameters())" \
+  || { echo "the installed Python module does not import"; exit 1; }
+echo "python module: $module"
+
 # As a subproject: configured only (building would compile memloop again); no test or benchmark.
 cmake -S "$source/tests/consumer" -B "$work/sub" -DMEMLOOP_SOURCE_DIR="$source" \
   >"$work/sub.log" 2>&1 || { cat "$work/sub.log"; exit 1; }

@@ -29,6 +29,12 @@ struct PrecisionRecall {
 
 PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundTruth& truth);
 
+// One detection as Evaluate counts it: true when the query and any matched image form a pair;
+// ignored when none does but one pair is ignored by the ground truth; else false.
+enum class Verdict { kTrue, kFalse, kIgnored };
+Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& matched_images,
+              const GroundTruth& truth);
+
 // A point of the precision-recall curve: the hypotheses of value >= threshold accepted.
 struct PrecisionRecallPoint {
   double threshold = 0;
@@ -55,6 +61,10 @@ struct RunEvaluation {
   double median_iteration_ms = 0;
   // The time bound (issue 9), when T_time is given: iterations that took longer than T_time, and
   // the longest iteration as a multiple of T_time (the paper's worst case: 1.75 s / 1.4 s = 1.25).
+  // The floor under T_time: the median of what an iteration spends outside the stages that grow
+  // with WM (features, quantization, rehearsal, retrieval, transfer, checkpoint). A T_time under
+  // floor / memory.time_target cannot be held by transferring WM (issue 37).
+  double median_fixed_ms = 0;
   double time_limit_ms = 0;  // 0: not given, the two below are 0
   int iterations_over_time_limit = 0;
   double max_over_time_limit = 0;

@@ -105,6 +105,11 @@ struct MemoryOptions {
   // per iteration (memloop). 0: the paper's rule alone, words transferred = words added, about
   // one location per iteration, which takes thousands of images to bring an overgrown WM back.
   double transfer_max_fraction = 0.02;
+  // Over the time target, WM's own stages (likelihood, filter, selection) may take what the other
+  // stages leave of the target, and at least this share of it: only WM beyond that is
+  // transferred for time, since a smaller WM cannot make up for slow features or retrieval
+  // (memloop, issue 37). 0: the paper, every iteration over the target transfers.
+  double wm_min_time_share = 0.25;
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).

@@ -5,6 +5,7 @@
 // the same small changes of viewpoint and exposure as the demo route.
 #pragma once
 
+#include <functional>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <string>
@@ -45,7 +46,7 @@ class PlaceSequence {
   int revisit_frames() const;
   int revisits() const { return revisits_; }
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv, as SyntheticRoute::Write.
-  void Write(const std::string& folder) const;
+  void Write(const std::string& folder, const std::function<void(int)>& written = {}) const;
 
  private:
   struct Frame {

@@ -49,6 +49,8 @@ struct RunRow {
   std::vector<ImageIndex> hypothesis_images;
   bool hypothesis_eligible = true;  // Result::hypothesis_eligible
   double iteration_ms = 0;
+  // likelihood + filter + selection: the stages that grow with WM (0 in CSVs without them).
+  double wm_stages_ms = 0;
   int wm_size = 0;
   int dictionary_size = 0;
 };

@@ -7,6 +7,7 @@
 // detour, then part of a third lap.
 #pragma once
 
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <utility>
@@ -48,8 +49,9 @@ class SyntheticRoute {
   // Every (query, match) with match < query and IsLoop(query, match).
   std::vector<std::pair<int, int>> GroundTruthPairs() const;
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv ("query,match" file names)
-  // into `folder`, the layout of the data sets in ../shared/datasets.
-  void Write(const std::string& folder) const;
+  // into `folder`, the layout of the data sets in ../shared/datasets. `written`, when given, is
+  // called after each image with the number written so far.
+  void Write(const std::string& folder, const std::function<void(int)>& written = {}) const;
 
  private:
   struct Frame {

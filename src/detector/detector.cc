@@ -537,10 +537,14 @@ class Detector::Impl {
     trigger.time_exceeded = TimeExceeded(elapsed_ms, limit, options_.memory.time_target);
     if (trigger.time_exceeded) {
       const StageTimes& times = result.times;
-      trigger.min_locations = LocationsOverTime(
-          elapsed_ms, times.likelihood_ms + times.filter_ms + times.selection_ms,
-          options_.memory.time_target * limit, static_cast<int>(memory_.working_memory().size()),
-          options_.memory.transfer_max_fraction);
+      const double wm_ms = times.likelihood_ms + times.filter_ms + times.selection_ms;
+      const double target_ms = options_.memory.time_target * limit;
+      const double share = options_.memory.wm_min_time_share;
+      // Over the target through stages WM does not drive: WM is kept (issue 37).
+      trigger.time_exceeded = WmIsTheCost(elapsed_ms, wm_ms, target_ms, share);
+      trigger.min_locations = LocationsOverTime(elapsed_ms, wm_ms, target_ms,
+                                                static_cast<int>(memory_.working_memory().size()),
+                                                options_.memory.transfer_max_fraction, share);
     }
     trigger.max_wm_locations = options_.memory.max_wm_locations;
     trigger.max_dictionary_words = options_.memory.max_dictionary_words;

@@ -109,6 +109,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Transfer when the iteration reaches this fraction of T_time (1 = the paper), so that whole iterations stay under T_time"),
     Param("memory.transfer_max_fraction", MEMLOOP_FIELD(memory.transfer_max_fraction)).Range(0, 1)
         .Help("Over the time target, transfer enough WM locations for the next iteration to fit, at most this fraction of WM per iteration (0 = the paper: words transferred = words added)"),
+    Param("memory.wm_min_time_share", MEMLOOP_FIELD(memory.wm_min_time_share)).Range(0, 1)
+        .Help("Over the time target, WM's stages (likelihood, filter, selection) keep what the other stages leave of the target and at least this share of it; only WM beyond is transferred for time (0 = the paper: every iteration over the target transfers)"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")

@@ -77,7 +77,7 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           "surf.hessian_threshold", "surf.sample_step", "dictionary.nndr_ratio",
           "dictionary.kd_checks", "memory.rehearsal_most_similar", "filter.loop_ratio",
           "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
-          "memory.retrieved_immune_iterations"}));
+          "memory.retrieved_immune_iterations", "memory.wm_min_time_share"}));
 }
 
 TEST(ParamsTest, PresetsByName) {

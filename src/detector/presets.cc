@@ -27,6 +27,7 @@ Options Options::Paper2011() {
   options.memory.retrieval_min_value = 0;
   options.memory.time_target = 1.0;
   options.memory.transfer_max_fraction = 0;
+  options.memory.wm_min_time_share = 0;
   options.memory.max_dictionary_words = 0;
   options.filter.hypothesis_value = "best_neighbours";  // Rtabmap::selectHypotheses
   options.filter.loop_threshold = 0.10;

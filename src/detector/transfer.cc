@@ -11,12 +11,20 @@ bool TimeExceeded(double elapsed_ms, double time_limit_ms, double target) {
   return time_limit_ms > 0 && elapsed_ms > target * time_limit_ms;
 }
 
+double WmTimeBudget(double elapsed_ms, double wm_ms, double target_ms, double min_share) {
+  return std::max(target_ms - (elapsed_ms - wm_ms), min_share * target_ms);
+}
+
+bool WmIsTheCost(double elapsed_ms, double wm_ms, double target_ms, double min_share) {
+  return min_share <= 0 || wm_ms > WmTimeBudget(elapsed_ms, wm_ms, target_ms, min_share);
+}
+
 int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,
-                      double max_fraction) {
+                      double max_fraction, double min_share) {
   if (max_fraction <= 0 || elapsed_ms <= target_ms || wm_ms <= 0 || wm_size <= 0) return 0;
-  const double rest_ms = elapsed_ms - wm_ms;
-  if (rest_ms >= target_ms) return 0;  // a slow stage WM does not drive: a smaller WM won't help
-  const double kept = std::min(1.0, (target_ms - rest_ms) / wm_ms);
+  const double budget_ms = WmTimeBudget(elapsed_ms, wm_ms, target_ms, min_share);
+  if (budget_ms <= 0) return 0;  // a slow stage WM does not drive: a smaller WM won't help
+  const double kept = std::min(1.0, budget_ms / wm_ms);
   const int over = static_cast<int>(std::ceil(wm_size * (1.0 - kept)));
   return std::min(over, static_cast<int>(std::ceil(max_fraction * wm_size)));
 }

@@ -26,15 +26,26 @@ struct TransferTrigger {
 // elapsed > T_time). False when T_time is off (0).
 bool TimeExceeded(double elapsed_ms, double time_limit_ms, double target);
 
+// The time WM's stages (`wm_ms`: likelihood, filter, selection) may take in an iteration of
+// `elapsed_ms` aiming at `target_ms`: what the rest (elapsed_ms - wm_ms) leaves of the target,
+// and at least `min_share` of it (memory.wm_min_time_share; 0 = the paper: what the rest leaves,
+// possibly nothing).
+double WmTimeBudget(double elapsed_ms, double wm_ms, double target_ms, double min_share);
+
+// Whether an iteration over the time target transfers for time: with min_share 0 (the paper)
+// always; else only when WM's stages take more than their budget (a smaller WM cannot make up
+// for slow features or retrieval, issue 37).
+bool WmIsTheCost(double elapsed_ms, double wm_ms, double target_ms, double min_share);
+
 // memloop's time controller (memory.transfer_max_fraction; not in the paper): how many WM
-// locations to transfer so that the next iteration fits `target_ms`. The part of the iteration
-// that grows with WM (`wm_ms`: likelihood, filter, selection) is scaled down to what the target
-// leaves after the rest (elapsed_ms - wm_ms); at most ceil(max_fraction x wm_size), so that one
-// iteration slowed by the machine costs little of WM. 0 when under the target, when the rest
-// alone reaches it (a smaller WM would not help), or when max_fraction is 0 (the paper's rule
-// alone: words transferred = words added, about one location per iteration).
+// locations to transfer so that the next iteration fits `target_ms`. WM's stages are scaled down
+// to their budget (WmTimeBudget); at most ceil(max_fraction x wm_size), so that one iteration
+// slowed by the machine costs little of WM. 0 when under the target, when the budget is 0 (the
+// rest alone reaches the target and min_share is 0: a smaller WM would not help), or when
+// max_fraction is 0 (the paper's rule alone: words transferred = words added, about one
+// location per iteration).
 int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,
-                      double max_fraction);
+                      double max_fraction, double min_share = 0);
 
 // WM locations in the order they would be transferred: lowest weight first, then oldest
 // (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest

@@ -152,6 +152,24 @@ TEST(LocationsOverTimeTest, ScalesTheWorkingMemoryStagesToTheTarget) {
   EXPECT_EQ(LocationsOverTime(90, 40, 75, 1000, 0), 0);
 }
 
+// memory.wm_min_time_share: WM's stages keep what the rest leaves of the target, at least the
+// share. Iteration 90 ms, target 75: with WM's stages at 40 ms the rest is 50, the budget
+// max(25, 0.25 x 75 = 18.75) = 25; at 10 ms the rest is 80 > 75, the budget 18.75.
+TEST(LocationsOverTimeTest, WmKeepsItsShareOfTheTargetWhenTheRestIsTheCost) {
+  EXPECT_DOUBLE_EQ(WmTimeBudget(90, 40, 75, 0.25), 25);
+  EXPECT_DOUBLE_EQ(WmTimeBudget(90, 10, 75, 0.25), 18.75);
+  EXPECT_DOUBLE_EQ(WmTimeBudget(90, 10, 75, 0), 0);  // the rest alone is over the target
+  EXPECT_TRUE(WmIsTheCost(90, 40, 75, 0.25));   // 40 > 25
+  EXPECT_FALSE(WmIsTheCost(90, 10, 75, 0.25));  // 10 <= 18.75: features or retrieval are slow
+  EXPECT_TRUE(WmIsTheCost(90, 10, 75, 0));      // the paper: any iteration over the target
+  EXPECT_TRUE(WmIsTheCost(100, 30, 75, 0.25));  // rest 70: budget max(5, 18.75), 30 > 18.75
+  // 1000 locations, WM's stages 30 ms scaled to 18.75: 375 over, capped at 2% = 20 or 50% = 375.
+  EXPECT_EQ(LocationsOverTime(100, 30, 75, 1000, 0.02, 0.25), 20);
+  EXPECT_EQ(LocationsOverTime(100, 30, 75, 1000, 0.5, 0.25), 375);
+  EXPECT_EQ(LocationsOverTime(100, 30, 75, 1000, 1, 0), 834);    // the budget is 5 ms: keep 1/6
+  EXPECT_EQ(LocationsOverTime(90, 10, 75, 1000, 0.5, 0.25), 0);  // within its share
+}
+
 // memory.retrieved_immune_iterations: retrieved at iteration 5 with 3 iterations of immunity,
 // immune at 5, 6 and 7, not at 8; a location that left WM is not reported.
 TEST_F(TransferTest, RetrievedLocationsStayImmuneForTheirIterations) {

@@ -4,12 +4,6 @@
 
 namespace memloop {
 
-namespace {
-
-enum class Verdict { kTrue, kFalse, kIgnored };
-
-// True when the query and any image of the matched location form a pair; ignored when none does
-// but one pair is ignored by the ground truth.
 Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& images, const GroundTruth& truth) {
   bool ignored = false;
   for (ImageIndex match : images) {
@@ -21,6 +15,8 @@ Verdict Judge(ImageIndex query, const std::vector<ImageIndex>& images, const Gro
   return ignored ? Verdict::kIgnored : Verdict::kFalse;
 }
 
+namespace {
+
 // Median and max iteration, and with T_time, the iterations over it and max / T_time.
 void AddTimeBound(const std::vector<RunRow>& rows, double time_limit_ms, RunEvaluation* e) {
   std::vector<double> times;
@@ -29,6 +25,11 @@ void AddTimeBound(const std::vector<RunRow>& rows, double time_limit_ms, RunEval
   std::sort(times.begin(), times.end());
   e->median_iteration_ms = times[times.size() / 2];
   e->max_iteration_ms = times.back();
+  std::vector<double> fixed;
+  for (const RunRow& row : rows)
+    fixed.push_back(std::max(0.0, row.iteration_ms - row.wm_stages_ms));
+  std::nth_element(fixed.begin(), fixed.begin() + fixed.size() / 2, fixed.end());
+  e->median_fixed_ms = fixed[fixed.size() / 2];
   if (time_limit_ms <= 0) return;
   e->time_limit_ms = time_limit_ms;
   e->iterations_over_time_limit =

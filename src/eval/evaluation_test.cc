@@ -102,6 +102,17 @@ TEST(EvaluateRunTest, TimeBoundCountsIterationsOverTheTimeLimit) {
   EXPECT_DOUBLE_EQ(unbounded.max_over_time_limit, 0);
 }
 
+// The floor under T_time: iterations 0, 10, ..., 60 ms of which WM's stages took 0, 1, ..., 6 ms
+// (image k: 10k and k): fixed costs 0, 9, 18, 27, 36, 45, 54, median 27 ms.
+TEST(EvaluateRunTest, FixedCostIsTheMedianOutsideWmsStages) {
+  std::vector<RunRow> rows;
+  for (int image = 0; image < 7; ++image) {
+    rows.push_back(Row(image, {}, 0, {}));
+    rows.back().wm_stages_ms = image;
+  }
+  EXPECT_DOUBLE_EQ(EvaluateRun(rows, SmallTruth(), 25).median_fixed_ms, 27);
+}
+
 TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   const std::vector<RunRow> rows = {
       Row(0, {}, 0, {}),

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "eval/gnuplot.h"
+#include "eval/loop_closure_views.h"
 
 namespace memloop {
 namespace {
@@ -111,26 +112,24 @@ std::string MemoryFigure(const std::vector<RunRow>& rows) {
                    kWidth, kHeight);
 }
 
+// The ground-truth matrix with the run's loop closures, each drawn as eval judges it (Judge):
+// true, false, or on an ignored pair (counted neither way, so not drawn as a false positive).
 std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth& truth) {
-  std::vector<std::pair<double, double>> pairs, true_positives, false_positives, misses;
+  std::vector<std::pair<double, double>> pairs, true_positives, false_positives, ignored, misses;
   for (int query = 0; query < truth.size(); ++query) {
     for (int match = 0; match < query; ++match) {
       if (truth.IsLoop(query, match)) pairs.emplace_back(match, query);
     }
   }
   std::vector<bool> found(truth.size(), false);
-  for (const RunRow& row : rows) {
-    if (row.matched_images.empty() || row.image >= truth.size()) continue;
-    ImageIndex shown = row.matched_images.front();
-    bool correct = false;
-    for (ImageIndex match : row.matched_images) {
-      if (match < row.image && truth.IsLoop(row.image, match)) {
-        correct = true;
-        shown = match;
-      }
+  for (const LoopClosureView& view : AcceptedLoopClosures(rows, &truth)) {
+    const std::pair<double, double> point(view.match, view.query);
+    if (view.verdict == "true") {
+      true_positives.push_back(point);
+      found[view.query] = true;
+    } else {
+      (view.verdict == "ignored" ? ignored : false_positives).push_back(point);
     }
-    found[row.image] = found[row.image] || correct;
-    (correct ? true_positives : false_positives).emplace_back(shown, row.image);
   }
   for (int query = 0; query < truth.size(); ++query) {
     if (found[query] || !truth.HasEarlierMatch(query)) continue;
@@ -145,7 +144,8 @@ std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth
   char ranges[160];
   std::snprintf(ranges, sizeof(ranges), "set xrange [-0.5:%g]\nset yrange [%g:-0.5]\n", last, last);
   return RenderSvg(Datablock("pairs", pairs) + Datablock("tp", true_positives) +
-                       Datablock("fp", false_positives) + Datablock("miss", misses) +
+                       Datablock("fp", false_positives) + Datablock("ignored", ignored) +
+                       Datablock("miss", misses) +
                        "set xlabel 'Matched image'\nset ylabel 'Query image'\nset size ratio -1\n" +
                        ranges + "set key outside right\nset grid\n" +
                        PlotCommand({{!pairs.empty(),
@@ -154,6 +154,9 @@ std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth
                                     {!true_positives.empty(),
                                      "$tp using 1:2 with points pt 7 ps 0.7 "
                                      "lc rgb '#2ca02c' title 'true positive'"},
+                                    {!ignored.empty(),
+                                     "$ignored using 1:2 with points pt 4 ps 0.8 "
+                                     "lc rgb '#9467bd' title 'on an ignored pair'"},
                                     {!false_positives.empty(),
                                      "$fp using 1:2 with points pt 2 ps 1.2 "
                                      "lc rgb '#d62728' title 'false positive'"},
@@ -166,12 +169,13 @@ std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth
 // Iterations over T_time and the longest as a multiple of it, when the run's T_time is known.
 std::string TimeBoundRows(const RunEvaluation& e) {
   if (e.time_limit_ms <= 0) return "";
-  char text[256];
+  char text[512];
   std::snprintf(text, sizeof(text),
                 "<tr><th>iterations over T<sub>time</sub> (%g ms)</th><td>%d (%.2f%%)</td></tr>\n"
-                "<tr><th>max iteration / T<sub>time</sub></th><td>%.2f</td></tr>\n",
+                "<tr><th>max iteration / T<sub>time</sub></th><td>%.2f</td></tr>\n"
+                "<tr><th>fixed cost (median outside WM's stages)</th><td>%.1f ms</td></tr>\n",
                 e.time_limit_ms, e.iterations_over_time_limit, 100 * e.FractionOverTimeLimit(),
-                e.max_over_time_limit);
+                e.max_over_time_limit, e.median_fixed_ms);
   return text;
 }
 
@@ -203,8 +207,9 @@ std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth, bool 
   return text;
 }
 
-// Records page errors and, once loaded, how many figures drew something, on <body> (data-errors,
-// data-rendered), where a headless browser's DOM dump can read them.
+// Records page errors and, once loaded, how many figures drew something and how many thumbnails
+// decoded, on <body> (data-errors, data-rendered, data-images), where a headless browser's DOM
+// dump can read them.
 constexpr const char* kCheckScript = R"(<script>
 window.memloopErrors = [];
 window.addEventListener('error', function (e) { window.memloopErrors.push(String(e.message)); });
@@ -215,6 +220,11 @@ window.addEventListener('load', function () {
     if (box.width > 0 && box.height > 0 && svg.querySelectorAll('path, circle, use').length > 0) rendered++;
   });
   document.body.setAttribute('data-rendered', String(rendered));
+  var images = 0;
+  document.querySelectorAll('.views img').forEach(function (img) {
+    if (img.complete && img.naturalWidth > 0) images++;
+  });
+  document.body.setAttribute('data-images', String(images));
   document.body.setAttribute('data-errors', window.memloopErrors.join(' | '));
 });
 </script>)";
@@ -227,33 +237,78 @@ std::string Figure(const std::string& id, const std::string& title, const std::s
 
 }  // namespace
 
+namespace {
+
+// The page up to the summary table.
+std::string PageStart(const std::string& title) {
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+         Escape(title) + "</title>\n" + kCheckScript +
+         "\n<style>\nbody { font-family: sans-serif; max-width: 960px; margin: 2em auto; color: "
+         "#222; }\n"
+         "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 4px "
+         "10px; text-align: left; }\n.figure { margin: 2em 0; }\n.caption { color: #555; }\n"
+         ".views tr.false td:first-child { color: #d62728; font-weight: bold; }\n"
+         ".views tr.ignored td:first-child { color: #9467bd; }\n</style>\n"
+         "</head>\n<body data-rendered=\"0\" data-errors=\"\">\n<h1>" +
+         Escape(title) + "</h1>\n";
+}
+
+// What needs no ground truth: time per image, WM and dictionary, and the views when asked for.
+std::string RunFigures(const std::vector<RunRow>& rows, const ReportOptions& options) {
+  std::string page = Figure("time", "Processing time per image",
+                            "As the paper's Fig. 4: the time of each iteration, with the time "
+                            "limit T<sub>time</sub> when given.",
+                            TimeFigure(rows, options.time_limit_ms));
+  page += Figure("memory", "Working Memory and dictionary",
+                 "Locations in WM and words in the dictionary after each iteration.",
+                 MemoryFigure(rows));
+  return page;
+}
+
+std::string Views(const std::vector<RunRow>& rows, const GroundTruth* truth,
+                  const ReportOptions& options) {
+  if (options.images.empty()) return "";
+  return LoopClosureViewsSection(AcceptedLoopClosures(rows, truth), rows, options.images,
+                                 options.max_views);
+}
+
+}  // namespace
+
 std::string MakeReport(const std::vector<RunRow>& rows, const GroundTruth& truth,
                        const RunEvaluation& evaluation, const ReportOptions& options) {
   std::string page =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
-      Escape(options.title) + "</title>\n" + kCheckScript +
-      "\n<style>\nbody { font-family: sans-serif; max-width: 960px; margin: 2em auto; color: #222; "
-      "}\n"
-      "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 4px 10px; "
-      "text-align: left; }\n.figure { margin: 2em 0; }\n.caption { color: #555; }\n</style>\n"
-      "</head>\n<body data-rendered=\"0\" data-errors=\"\">\n<h1>" +
-      Escape(options.title) + "</h1>\n" + SummaryTable(evaluation, truth, options.ignored_as_true);
+      PageStart(options.title) + SummaryTable(evaluation, truth, options.ignored_as_true);
   page += Figure("precision-recall", "Precision-recall curve",
                  "Every iteration's highest hypothesis, accepted when its value is at least the "
                  "threshold; the run's own operating point is marked.",
                  PrecisionRecallFigure(evaluation));
-  page += Figure("time", "Processing time per image",
-                 "As the paper's Fig. 4: the time of each iteration, with the time limit "
-                 "T<sub>time</sub> when given.",
-                 TimeFigure(rows, options.time_limit_ms));
-  page += Figure("memory", "Working Memory and dictionary",
-                 "Locations in WM and words in the dictionary after each iteration.",
-                 MemoryFigure(rows));
+  page += RunFigures(rows, options);
   page += Figure("ground-truth", "Ground truth and detections",
-                 "Grey: ground-truth pairs (query, earlier match). Green: true positives. Red: "
+                 "Grey: ground-truth pairs (query, earlier match). Green: true positives. Purple: "
+                 "loop closures on pairs the ground truth ignores (counted neither way). Red: "
                  "false positives. Orange: images with a ground-truth loop and no true detection.",
                  GroundTruthFigure(rows, truth));
-  return page + "</body>\n</html>\n";
+  return page + Views(rows, &truth, options) + "</body>\n</html>\n";
+}
+
+std::string MakeRunReport(const std::vector<RunRow>& rows, const ReportOptions& options) {
+  // The time bound and the maxima, from the rows alone (no pair is judged).
+  const RunEvaluation e =
+      EvaluateRun(rows, GroundTruth(cv::Mat::zeros(1, 1, CV_8U)), options.time_limit_ms);
+  int loop_closures = 0;
+  for (const RunRow& row : rows) loop_closures += !row.matched_images.empty();
+  char text[1024];
+  std::snprintf(text, sizeof(text),
+                "<table>\n<tr><th>images</th><td>%d</td></tr>\n"
+                "<tr><th>loop closures accepted</th><td>%d (no ground truth given)</td></tr>\n"
+                "<tr><th>max WM size</th><td>%d locations</td></tr>\n"
+                "<tr><th>max dictionary size</th><td>%d words</td></tr>\n"
+                "<tr><th>max iteration time</th><td>%.3f s</td></tr>\n"
+                "<tr><th>median iteration time</th><td>%.1f ms</td></tr>\n%s</table>\n",
+                e.images, loop_closures, e.max_wm_size, e.max_dictionary_size,
+                e.max_iteration_ms / 1000, e.median_iteration_ms, TimeBoundRows(e).c_str());
+  return PageStart(options.title) + text + RunFigures(rows, options) +
+         Views(rows, nullptr, options) + "</body>\n</html>\n";
 }
 
 }  // namespace memloop

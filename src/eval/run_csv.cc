@@ -294,6 +294,9 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
       }
     }
     row.iteration_ms = real_of("iteration_ms", 0, 1e12);
+    for (const char* stage : {"likelihood_ms", "filter_ms", "selection_ms"}) {
+      if (column.count(stage)) row.wm_stages_ms += real_of(stage, 0, 1e12);
+    }
     row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
     row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));
     rows.push_back(std::move(row));

@@ -101,9 +101,10 @@ int PlaceSequence::revisit_frames() const {
   return frames;
 }
 
-void PlaceSequence::Write(const std::string& folder) const {
+void PlaceSequence::Write(const std::string& folder,
+                          const std::function<void(int)>& written) const {
   WriteSequence(
-      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs());
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written);
 }
 
 }  // namespace memloop

@@ -91,9 +91,10 @@ std::vector<std::pair<int, int>> SyntheticRoute::GroundTruthPairs() const {
   return pairs;
 }
 
-void SyntheticRoute::Write(const std::string& folder) const {
+void SyntheticRoute::Write(const std::string& folder,
+                           const std::function<void(int)>& written) const {
   WriteSequence(
-      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs());
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written);
 }
 
 }  // namespace memloop

@@ -74,7 +74,8 @@ cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& j
 }
 
 void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
-                   const std::vector<std::pair<int, int>>& pairs) {
+                   const std::vector<std::pair<int, int>>& pairs,
+                   const std::function<void(int)>& written) {
   const std::string images = folder + "/images";
   std::error_code error;
   std::filesystem::create_directories(images, error);
@@ -82,6 +83,7 @@ void WriteSequence(const std::string& folder, int size, const std::function<cv::
   for (int index = 0; index < size; ++index) {
     const std::string path = images + "/" + std::to_string(index + 1) + ".png";
     if (!cv::imwrite(path, render(index))) throw InputError(path, "cannot write the image");
+    if (written) written(index + 1);
   }
   const std::string csv_path = folder + "/ground_truth_pairs.csv";
   std::ofstream csv(csv_path);

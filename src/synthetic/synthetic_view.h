@@ -27,8 +27,10 @@ cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& j
 
 // Writes `folder`/images/1.png .. N.png (frame i from `render(i)`) and
 // `folder`/ground_truth_pairs.csv ("query,match" file names), the layout of ../shared/datasets.
-// Throws InputError naming the file that cannot be written.
+// Throws InputError naming the file that cannot be written. `written(n)` after each image, if
+// given.
 void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
-                   const std::vector<std::pair<int, int>>& pairs);
+                   const std::vector<std::pair<int, int>>& pairs,
+                   const std::function<void(int)>& written = {});
 
 }  // namespace memloop

@@ -9,6 +9,7 @@
 #include "memloop/evaluation.h"
 #include "memloop/place_sequence.h"
 #include "memloop/synthetic_route.h"
+#include "progress.h"
 #include "session.h"
 
 namespace memloop::cli {
@@ -148,12 +149,16 @@ void AddDemoCommand(CLI::App& app) {
   generate->callback([arguments, generate_places] {
     if (generate_places->count() > 0) {
       arguments->places.seed = arguments->seed;
-      PlaceSequence(arguments->places).Write(arguments->folder);
+      const PlaceSequence places(arguments->places);
+      Progress progress(places.size(), "images written");
+      places.Write(arguments->folder, [&](int written) { progress.Update(written); });
       return;
     }
     SyntheticRouteOptions route_options;
     route_options.seed = arguments->seed;
-    SyntheticRoute(route_options).Write(arguments->folder);
+    const SyntheticRoute route(route_options);
+    Progress progress(route.size(), "images written");
+    route.Write(arguments->folder, [&](int written) { progress.Update(written); });
   });
 }
 

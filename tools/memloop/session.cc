@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -145,6 +146,8 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   }
 
   SessionReport report;
+  report.time_limit_ms = options.memory.time_limit_ms;
+  report.time_target = options.memory.time_target;
   int loop_closures = 0;
   Progress progress(sequence.size());
   const InterruptWatch interrupt;
@@ -190,6 +193,32 @@ void ThrowIfInterrupted(const SessionReport& report, const std::string& database
   throw Interrupted(report.interrupted_by, message);
 }
 
+namespace {
+
+// A second line when T_time is under what the stages WM does not drive need (issue 37): the
+// transfer cannot hold such a bound, and the user is told the floor instead of finding out.
+std::string TightTimeLimitWarning(const SessionReport& report) {
+  if (report.time_limit_ms <= 0 || report.results.empty()) return "";
+  std::vector<double> fixed;
+  for (const Result& result : report.results) {
+    const StageTimes& t = result.times;
+    fixed.push_back(std::max(0.0, t.total_ms - t.likelihood_ms - t.filter_ms - t.selection_ms));
+  }
+  std::nth_element(fixed.begin(), fixed.begin() + fixed.size() / 2, fixed.end());
+  const double floor_ms = fixed[fixed.size() / 2];
+  const double target_ms = report.time_target * report.time_limit_ms;
+  if (floor_ms <= target_ms) return "";
+  return fmt::format(
+      "\nwarning: T_time {:g} ms is under this machine's floor: the stages WM does not drive "
+      "(features, quantization, retrieval, checkpoint) take a median {:.1f} ms, over the time "
+      "target ({:g} x T_time = {:.1f} ms), so transferring WM cannot keep iterations under T_time; "
+      "give T_time {:.0f} ms or more (memloop eval --time-limit-ms shows the floor)",
+      report.time_limit_ms, floor_ms, report.time_target, target_ms,
+      std::ceil(floor_ms / report.time_target));
+}
+
+}  // namespace
+
 std::string Summary(const SessionReport& report) {
   std::vector<double> times;
   int loop_closures = 0;
@@ -210,8 +239,9 @@ std::string Summary(const SessionReport& report) {
                 "%.1f ms, max %.1f ms; max WM size: %d locations; max dictionary size: %d words",
                 report.results.size(), report.skipped, loop_closures, median, max, max_wm,
                 max_words);
-  if (report.dropped > 0) return text + fmt::format("; camera frames dropped: {}", report.dropped);
-  return text;
+  std::string summary = text;
+  if (report.dropped > 0) summary += fmt::format("; camera frames dropped: {}", report.dropped);
+  return summary + TightTimeLimitWarning(report);
 }
 
 }  // namespace memloop::cli

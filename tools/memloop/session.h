@@ -12,9 +12,11 @@ namespace memloop::cli {
 struct SessionReport {
   std::vector<Result> results;  // one per processed image
   std::vector<std::string> names;
-  int skipped = 0;         // unreadable images, warned and skipped
-  int interrupted_by = 0;  // SIGINT or SIGTERM that ended the run early, 0 if none
-  long long dropped = 0;   // camera frames lost because the detector was slower
+  int skipped = 0;           // unreadable images, warned and skipped
+  int interrupted_by = 0;    // SIGINT or SIGTERM that ended the run early, 0 if none
+  long long dropped = 0;     // camera frames lost because the detector was slower
+  double time_limit_ms = 0;  // the run's T_time and memory.time_target, for the summary's warning
+  double time_target = 1;
 };
 
 struct SessionOptions {

@@ -1,0 +1,60 @@
+// The README's quick start runs as written from a fresh clone: each command of its first `sh`
+// block after "## Quick start" is run (./build/memloop as built here, /tmp/ as a folder of the
+// test's own) and must succeed, so the README cannot drift from the tool.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.h"
+#include "temp_dir.h"
+
+namespace memloop {
+namespace {
+
+std::string Replaced(std::string text, const std::string& from, const std::string& to) {
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The commands of the first ```sh block after `heading`: continuation lines joined, comments
+// (from " #") cut.
+std::vector<std::string> QuickStartCommands(const std::string& readme, const std::string& heading) {
+  std::istringstream in(readme.substr(readme.find(heading)));
+  std::vector<std::string> commands;
+  std::string line;
+  while (std::getline(in, line) && line != "```sh") {
+  }
+  std::string command;
+  while (std::getline(in, line) && line != "```") {
+    const size_t comment = line.find("  #");
+    if (comment != std::string::npos) line = line.substr(0, comment);
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    const bool continues = !line.empty() && line.back() == '\\';
+    command += continues ? line.substr(0, line.size() - 1) : line;
+    if (!continues && !command.empty()) commands.push_back(command), command.clear();
+  }
+  return commands;
+}
+
+TEST(ReadmeTest, QuickStartCommandsRunAsWritten) {
+  const std::string readme = testing::ReadBytes(std::string(MEMLOOP_SOURCE_DIR) + "/README.md");
+  ASSERT_NE(readme.find("## Quick start"), std::string::npos);
+  const std::vector<std::string> commands = QuickStartCommands(readme, "## Quick start");
+  ASSERT_GE(commands.size(), 5u) << "the quick start lost its commands";
+  testing::TempDir dir;
+  for (const std::string& written : commands) {
+    ASSERT_EQ(written.rfind("./build/memloop ", 0), 0u) << "not a memloop command: " << written;
+    const std::string command = Replaced(Replaced(written, "/tmp/", dir.path().string() + "/"),
+                                         "./build/memloop", MEMLOOP_CLI);
+    const int status = std::system((command + " > " + dir.File("out.txt") + " 2>&1").c_str());
+    EXPECT_EQ(status, 0) << written << "\n" << ReadFile(dir.File("out.txt"));
+  }
+  EXPECT_TRUE(Contains(ReadFile(dir.File("report.html")), "loop-closures"));
+}
+
+}  // namespace
+}  // namespace memloop

@@ -1,0 +1,107 @@
+// memloop report: a page that agrees with eval, draws in a browser, and shows what was matched.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "cli_helpers.h"
+#include "memloop/evaluation.h"
+#include "memloop/ground_truth.h"
+#include "memloop/run_csv.h"
+#include "route_images_test.h"
+
+namespace memloop {
+namespace {
+
+class ReportTest : public testing::RouteImagesTest<ReportTest> {
+ protected:
+  // The page as headless Chromium (installed by `make test`) leaves it once loaded, and its log.
+  std::string BrowserDom(const std::string& page, std::string* log) {
+    const std::string browser =
+        "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic "
+        "--no-first-run --disable-background-networking --disable-component-update "
+        "--disable-sync --hide-scrollbars --virtual-time-budget=5000 --user-data-dir=" +
+        dir_.File("profile");
+    const std::string dom = dir_.File("dom.html");
+    EXPECT_EQ(std::system((browser + " --dump-dom file://" + page + " > " + dom + " 2> " +
+                           dir_.File("chromium.log"))
+                              .c_str()),
+              0);
+    *log = ReadFile(dir_.File("chromium.log"));
+    return ReadFile(dom);
+  }
+  static bool HasBrowser() { return std::system("command -v chromium > /dev/null 2>&1") == 0; }
+};
+
+// Self-contained: nothing is loaded from elsewhere (xmlns URIs are names, not loads).
+void ExpectSelfContained(const std::string& html) {
+  for (const char* load : {"src=\"http", "href=\"http", "src='http", "href='http", "<link"}) {
+    EXPECT_EQ(html.find(load), std::string::npos) << load;
+  }
+  EXPECT_EQ(std::count(html.begin(), html.end(), '\0'), 0);
+}
+
+// Every figure draws, the page logs no error, every thumbnail of the loop closures decodes, and
+// a screenshot is kept in build/test-artifacts/report.png. Without ground truth, the run's own
+// figures draw.
+TEST_F(ReportTest, RendersInABrowserWithEachLoopClosuresImages) {
+  if (!HasBrowser()) GTEST_SKIP() << "chromium is not installed (make test installs it)";
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
+  int loop_closures = 0;
+  for (const RunRow& row : ReadRunCsv(csv)) loop_closures += !row.matched_images.empty();
+  ASSERT_GT(loop_closures, 20);
+  const std::string page = dir_.File("report.html");
+  const Outcome report =
+      Memloop("report " + csv + " " + folder_->File("ground_truth_pairs.csv") +
+              " --time-limit-ms 700 --images " + Images() + " --max-views 20 --out " + page);
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = ReadFile(page);
+  ExpectSelfContained(html);
+  EXPECT_TRUE(Contains(html, "20 of the " + std::to_string(loop_closures) + " loop closures"));
+  std::string log;
+  const std::string dom = BrowserDom(page, &log);
+  EXPECT_TRUE(Contains(dom, "data-rendered=\"4\"")) << dom.substr(0, 600);
+  EXPECT_TRUE(Contains(dom, "data-images=\"40\"")) << dom.substr(0, 600);
+  EXPECT_TRUE(Contains(dom, "data-errors=\"\"")) << dom.substr(0, 600);
+  EXPECT_FALSE(Contains(log, "Uncaught")) << log;
+  const std::string artifacts = std::string(MEMLOOP_BUILD_DIR) + "/test-artifacts";
+  std::filesystem::create_directories(artifacts);
+  std::system(("timeout 120 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
+               "--user-data-dir=" +
+               dir_.File("profile") + " --window-size=1000,3400 --screenshot=" + artifacts +
+               "/report.png file://" + page + " > /dev/null 2>&1")
+                  .c_str());
+  EXPECT_TRUE(std::filesystem::exists(artifacts + "/report.png"));
+
+  const std::string alone = dir_.File("alone.html");
+  ASSERT_EQ(Memloop("report " + csv + " --images " + Images() + " --out " + alone).exit_code, 0);
+  ExpectSelfContained(ReadFile(alone));
+  EXPECT_TRUE(Contains(ReadFile(alone), "no ground truth given"));
+  const std::string alone_dom = BrowserDom(alone, &log);
+  EXPECT_TRUE(Contains(alone_dom, "data-rendered=\"2\"")) << alone_dom.substr(0, 600);
+  EXPECT_TRUE(Contains(alone_dom,
+                       "data-images=\"" + std::to_string(2 * std::min(loop_closures, 200)) + "\""))
+      << alone_dom.substr(0, 600);
+}
+
+// --images must be the run's sequence: a folder without the run's files is named.
+TEST_F(ReportTest, ImagesThatAreNotTheRunsAreRefused) {
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
+  std::filesystem::create_directories(dir_.File("other"));
+  const Outcome refused = Memloop("report " + csv + " --images " + dir_.File("other") + " --out " +
+                                  dir_.File("r.html"));
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_TRUE(Contains(refused.output, dir_.File("other") + ": has no readable image '"))
+      << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("r.html")));
+  const Outcome no_truth = Memloop("report " + csv + " --ignored-as-true");
+  EXPECT_EQ(no_truth.exit_code, 2) << no_truth.output;
+  EXPECT_TRUE(Contains(no_truth.output, "--ignored-as-true")) << no_truth.output;
+}
+
+}  // namespace
+}  // namespace memloop
