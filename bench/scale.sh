@@ -8,11 +8,12 @@
 #          that grows.
 # Prints, per run, one row per block of 1000 images (median and max iteration ms, WM size,
 # dictionary size, RSS), then the run's totals; writes the time plot (the paper's Fig. 4) as
-# docs/scale-time.png. Frames are rendered on the fly (memloop demo --places): nothing on disk but
-# the maps and CSVs. Usage: bench/scale.sh [PLACES] > docs/scale-run.md
+# $OUT/scale-time.png (PLOT=docs/scale-time.png for the docs' figure). Frames are rendered on the
+# fly (memloop demo --places): nothing on disk but the maps and CSVs.
+# Usage: bench/scale.sh [PLACES] > docs/scale-run.md
 # Environment: RUNS="time budget off", TTIME_MS, BUDGET=500, MIN_AGE=10000, OFF_SECONDS=1800,
-# BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one), SETS="name=value ..."
-# given to every run (calibration included) after the run's own.
+# BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one), PLOT=the plot's path,
+# SETS="name=value ..." given to every run (calibration included) after the run's own.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -81,10 +82,11 @@ for name in $runs; do
 done
 
 if [ -f "$out/time.csv" ]; then
+  plot=${PLOT:-$out/scale-time.png}
   awk -F, 'NR > 1 {print $1, $16}' "$out/time.csv" >"$out/time.dat"
   gnuplot <<GP
 set terminal pngcairo size 1000,380 font "sans,10"
-set output "docs/scale-time.png"
+set output "$plot"
 set xlabel "image"
 set ylabel "iteration time (ms)"
 set logscale y
@@ -93,5 +95,5 @@ plot "$out/time.dat" using 1:2 with dots lc rgb "#1f77b4" title "time per image"
      $TTIME_MS with lines lw 2 lc rgb "#d62728" title "T_{time} = $TTIME_MS ms"
 GP
   echo
-  echo "plot: docs/scale-time.png"
+  echo "plot: $plot"
 fi

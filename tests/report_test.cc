@@ -4,11 +4,15 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <string>
 
 #include "cli_helpers.h"
 #include "memloop/evaluation.h"
 #include "memloop/ground_truth.h"
+#include "memloop/image_sequence.h"
 #include "memloop/run_csv.h"
 #include "route_images_test.h"
 
@@ -85,6 +89,66 @@ TEST_F(ReportTest, RendersInABrowserWithEachLoopClosuresImages) {
   EXPECT_TRUE(Contains(alone_dom,
                        "data-images=\"" + std::to_string(2 * std::min(loop_closures, 200)) + "\""))
       << alone_dom.substr(0, 600);
+}
+
+std::vector<unsigned char> FromBase64(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<unsigned char> bytes;
+  unsigned value = 0;
+  int bits = 0;
+  for (char c : text) {
+    const size_t digit = alphabet.find(c);
+    if (digit == std::string::npos) break;  // '=' padding
+    value = value << 6 | static_cast<unsigned>(digit);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes.push_back(static_cast<unsigned char>(value >> bits & 0xff));
+    }
+  }
+  return bytes;
+}
+
+// A run on a video sampled with --rate numbers its images 0, 1, 2, ... while they are the video's
+// frames 1, 3, 5, ...: each thumbnail must show the frame its alt text names (the run's own), not
+// the video's frame at the run's index.
+TEST_F(ReportTest, ThumbnailsOfASampledVideoShowTheFramesTheRunRead) {
+  const std::string video = dir_.File("route.avi");
+  std::vector<cv::Mat> frames;
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10,
+                           cv::Size(320, 240));
+    ASSERT_TRUE(writer.isOpened());
+    for (const auto& name : ListFolder(Images())) {
+      frames.push_back(cv::imread(Images() + "/" + name));
+      writer.write(frames.back());
+    }
+  }
+  const std::string csv = dir_.File("run.csv");
+  ASSERT_EQ(
+      Memloop("run " + video + " --rate 5 --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
+  const std::string page = dir_.File("report.html");
+  const Outcome report =
+      Memloop("report " + csv + " --images " + video + " --max-views 6 --out " + page);
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = ReadFile(page);
+  int checked = 0;
+  for (size_t at = html.find("<img alt=\"image "); at != std::string::npos;
+       at = html.find("<img alt=\"image ", at + 1)) {
+    const size_t frame_at = html.find("(frame ", at) + 7;
+    const int frame = std::stoi(html.substr(frame_at));
+    const size_t data = html.find("base64,", at) + 7;
+    const std::vector<unsigned char> jpeg =
+        FromBase64(html.substr(data, html.find('"', data) - data));
+    const cv::Mat shown = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+    ASSERT_FALSE(shown.empty());
+    cv::Mat expected;
+    cv::resize(frames.at(frame - 1), expected, shown.size(), 0, 0, cv::INTER_AREA);
+    EXPECT_LT(cv::norm(shown, expected, cv::NORM_L1) / shown.total() / 3, 12.0)
+        << "frame " << frame;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 12);  // 6 loop closures, two images each
 }
 
 // --images must be the run's sequence: a folder without the run's files is named.

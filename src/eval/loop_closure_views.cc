@@ -43,19 +43,21 @@ std::string Thumbnail(const cv::Mat& image, const std::string& alt) {
          std::to_string(small.rows) + "\" src=\"data:image/jpeg;base64," + Base64(jpeg) + "\">";
 }
 
-// The images of `wanted`, read from the run's folder (by the rows' names) or video (by index).
+// The images of `wanted`, found by the names the run's rows give them: a folder's files, or a
+// video's frames ("frame N", the video's frame number, also when the run sampled it with --rate).
 std::map<ImageIndex, cv::Mat> ReadImages(const std::set<ImageIndex>& wanted,
                                          const std::vector<RunRow>& rows,
                                          const std::string& images) {
+  std::map<std::string, ImageIndex> by_name;
+  for (const RunRow& row : rows) {
+    if (wanted.count(row.image)) by_name[row.name] = row.image;
+  }
   std::map<ImageIndex, cv::Mat> read;
   if (std::filesystem::is_directory(images)) {
-    std::map<ImageIndex, std::string> names;
-    for (const RunRow& row : rows) names[row.image] = row.name;
-    for (ImageIndex index : wanted) {
-      const std::string path = images + "/" + names[index];
-      cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+    for (const auto& [name, index] : by_name) {
+      cv::Mat image = cv::imread(images + "/" + name, cv::IMREAD_COLOR);
       if (image.empty()) {
-        throw InputError(images, "has no readable image '" + names[index] + "' (image " +
+        throw InputError(images, "has no readable image '" + name + "' (image " +
                                      std::to_string(index) +
                                      " of the run): give the folder the run read");
       }
@@ -63,18 +65,38 @@ std::map<ImageIndex, cv::Mat> ReadImages(const std::set<ImageIndex>& wanted,
     }
     return read;
   }
-  const auto sequence = ImageSequence::Open(images);
+  const auto sequence = ImageSequence::Open(images);  // every frame: names are frame numbers
   Frame frame;
-  while (read.size() < wanted.size() && sequence->Next(&frame)) {
-    if (wanted.count(frame.index) && !frame.image.empty()) read[frame.index] = frame.image.clone();
+  while (read.size() < by_name.size() && sequence->Next(&frame)) {
+    const auto found = by_name.find(frame.name);
+    if (found != by_name.end() && !frame.image.empty()) read[found->second] = frame.image.clone();
   }
-  for (ImageIndex index : wanted) {
+  for (const auto& [name, index] : by_name) {
     if (!read.count(index)) {
-      throw InputError(images, "has no frame " + std::to_string(index) +
-                                   " of the run: give the video the run read");
+      throw InputError(images, "has no " + name + " (image " + std::to_string(index) +
+                                   " of the run): give the video the run read");
     }
   }
   return read;
+}
+
+std::string Escaped(const std::string& text) {
+  std::string escaped;
+  for (char c : text) {
+    escaped += c == '<'   ? "&lt;"
+               : c == '>' ? "&gt;"
+               : c == '&' ? "&amp;"
+               : c == '"' ? "&quot;"
+                          : std::string(1, c);
+  }
+  return escaped;
+}
+
+// "image 12 (frame 25)": the run's index and the image's name.
+std::string Alt(ImageIndex index, const std::map<ImageIndex, std::string>& names) {
+  const auto name = names.find(index);
+  return "image " + std::to_string(index) +
+         (name == names.end() ? "" : " (" + Escaped(name->second) + ")");
 }
 
 const char* VerdictClass(const std::string& verdict) {
@@ -141,15 +163,16 @@ std::string LoopClosureViewsSection(const std::vector<LoopClosureView>& views,
                : std::to_string(chosen.size()) + " of the " + std::to_string(views.size()) +
                      " loop closures (false positives first, the others spread evenly)") +
           ".</p>\n<table class=\"views\">\n";
+  std::map<ImageIndex, std::string> names;
+  for (const RunRow& row : rows) names[row.image] = row.name;
   char line[256];
   for (const LoopClosureView& view : chosen) {
     std::snprintf(line, sizeof(line), "image %d &rarr; image %d, p=%.3f%s%s", view.query,
                   view.match, view.probability, view.verdict.empty() ? "" : ": ",
                   view.verdict.c_str());
     html += std::string("<tr class=\"") + VerdictClass(view.verdict) + "\"><td>" + line +
-            "</td><td>" + Thumbnail(read.at(view.query), "image " + std::to_string(view.query)) +
-            "</td><td>" + Thumbnail(read.at(view.match), "image " + std::to_string(view.match)) +
-            "</td></tr>\n";
+            "</td><td>" + Thumbnail(read.at(view.query), Alt(view.query, names)) + "</td><td>" +
+            Thumbnail(read.at(view.match), Alt(view.match, names)) + "</td></tr>\n";
   }
   return html + "</table>\n</section>\n";
 }

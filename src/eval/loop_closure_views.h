@@ -25,8 +25,9 @@ std::vector<LoopClosureView> AcceptedLoopClosures(const std::vector<RunRow>& row
 
 // An HTML section with one row per view, false positives first, then ignored, then true ones,
 // at most `max_views` (spread evenly over each verdict's list when there are more). `images` is
-// the folder or video the run read: a folder's images are read by the names in `rows`, a video's
-// frames by index. Throws InputError naming `images` when it is not the run's sequence.
+// the folder or video the run read; images are found by the names in `rows` (a folder's files, a
+// video's "frame N", its frame number also when the run sampled it with --rate), each thumbnail's
+// alt text "image I (NAME)". Throws InputError naming `images` when it is not the run's sequence.
 std::string LoopClosureViewsSection(const std::vector<LoopClosureView>& views,
                                     const std::vector<RunRow>& rows, const std::string& images,
                                     int max_views);
