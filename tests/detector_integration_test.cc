@@ -1,13 +1,12 @@
 // The whole detector on the generated route, whose ground truth is exact.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <future>
 #include <map>
 #include <random>
 #include <set>
-#include <thread>
 
+#include "both_cores_loaded.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/evaluation.h"
@@ -496,17 +495,10 @@ TEST(DetectorIntegrationTest, TimeLimitNeverReachedGivesTheResultsOfNoTimeLimit)
     return results;
   };
   const std::vector<Result> expected = run(off);
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> load;
-  for (int k = 0; k < 2; ++k) {
-    load.emplace_back([&stop] {
-      volatile double x = 1;
-      while (!stop) x = x * 1.0000001 + 1e-9;
-    });
-  }
-  const std::vector<Result> actual = run(on);
-  stop = true;
-  for (std::thread& thread : load) thread.join();
+  const std::vector<Result> actual = [&] {
+    const testing::BothCoresLoaded load;
+    return run(on);
+  }();
   int loop_closures = 0;
   ASSERT_EQ(actual.size(), expected.size());
   for (size_t i = 0; i < actual.size(); ++i) {

@@ -5,37 +5,14 @@
 // swap wait (flann_word_index.cc, DoneWithin), 133, 147 and 164 of the 261 rows differ.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <string>
-#include <thread>
-#include <vector>
 
+#include "both_cores_loaded.h"
 #include "cli_helpers.h"
 #include "temp_dir.h"
 
 namespace memloop {
 namespace {
-
-// Two busy threads for as long as the object lives: both cores of the machine taken.
-class BothCoresLoaded {
- public:
-  BothCoresLoaded() {
-    for (int k = 0; k < 2; ++k) {
-      threads_.emplace_back([this] {
-        volatile double x = 1;
-        while (!stop_) x = x * 1.0000001 + 1e-9;
-      });
-    }
-  }
-  ~BothCoresLoaded() {
-    stop_ = true;
-    for (std::thread& thread : threads_) thread.join();
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::vector<std::thread> threads_;
-};
 
 // The demo route (260 images, 14,000 words): long enough for the forest to be rebuilt in the
 // background several times. On the shorter route of the other CLI tests every build is done long
@@ -49,7 +26,7 @@ TEST(RepeatabilityTest, ThreeDefaultRunsUnderLoadGiveTheCsvOfNoTimeLimit) {
             0);
   const std::string expected = WithoutTimes(ReadFile(reference));
   ASSERT_TRUE(Contains(expected, "\n")) << "no rows";
-  BothCoresLoaded load;
+  testing::BothCoresLoaded load;
   for (int run = 1; run <= 3; ++run) {
     const std::string csv = dir_.File("default_" + std::to_string(run) + ".csv");
     const Outcome outcome = Memloop("run " + images + " --out " + csv);  // T_time 700 ms

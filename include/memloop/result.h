@@ -12,6 +12,10 @@ namespace memloop {
 
 // Wall time of each step of the per-image cycle (paper Fig. 1), in milliseconds.
 struct StageTimes {
+  // The stages whose cost grows with WM (likelihood, filter, selection): what the time controller
+  // scales, and what the fixed cost of an iteration leaves out.
+  double WmStagesMs() const { return likelihood_ms + filter_ms + selection_ms; }
+
   double signature_ms = 0;   // features + quantization into words
   double rehearsal_ms = 0;   // III-B
   double likelihood_ms = 0;  // eq. 3-4

@@ -535,13 +535,13 @@ class Detector::Impl {
     // stays under T_time (issue 9).
     const double elapsed_ms = iteration.ElapsedMs();
     trigger.time_exceeded = TimeExceeded(elapsed_ms, limit, options_.memory.time_target);
+    const double wm_ms = result.times.WmStagesMs();
+    const double target_ms = options_.memory.time_target * limit;
+    const double share = options_.memory.wm_min_time_share;
+    // Over the target through stages WM does not drive: WM is kept (issue 37).
+    trigger.time_exceeded =
+        trigger.time_exceeded && WmIsTheCost(elapsed_ms, wm_ms, target_ms, share);
     if (trigger.time_exceeded) {
-      const StageTimes& times = result.times;
-      const double wm_ms = times.likelihood_ms + times.filter_ms + times.selection_ms;
-      const double target_ms = options_.memory.time_target * limit;
-      const double share = options_.memory.wm_min_time_share;
-      // Over the target through stages WM does not drive: WM is kept (issue 37).
-      trigger.time_exceeded = WmIsTheCost(elapsed_ms, wm_ms, target_ms, share);
       trigger.min_locations = LocationsOverTime(elapsed_ms, wm_ms, target_ms,
                                                 static_cast<int>(memory_.working_memory().size()),
                                                 options_.memory.transfer_max_fraction, share);

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "eval/html_escape.h"
 #include "memloop/errors.h"
 #include "memloop/evaluation.h"
 #include "memloop/image_sequence.h"
@@ -80,23 +81,11 @@ std::map<ImageIndex, cv::Mat> ReadImages(const std::set<ImageIndex>& wanted,
   return read;
 }
 
-std::string Escaped(const std::string& text) {
-  std::string escaped;
-  for (char c : text) {
-    escaped += c == '<'   ? "&lt;"
-               : c == '>' ? "&gt;"
-               : c == '&' ? "&amp;"
-               : c == '"' ? "&quot;"
-                          : std::string(1, c);
-  }
-  return escaped;
-}
-
 // "image 12 (frame 25)": the run's index and the image's name.
 std::string Alt(ImageIndex index, const std::map<ImageIndex, std::string>& names) {
   const auto name = names.find(index);
   return "image " + std::to_string(index) +
-         (name == names.end() ? "" : " (" + Escaped(name->second) + ")");
+         (name == names.end() ? "" : " (" + HtmlEscaped(name->second) + ")");
 }
 
 const char* VerdictClass(const std::string& verdict) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "eval/gnuplot.h"
+#include "eval/html_escape.h"
 #include "eval/loop_closure_views.h"
 
 namespace memloop {
@@ -12,29 +13,6 @@ namespace {
 
 constexpr int kWidth = 720;
 constexpr int kHeight = 420;
-
-std::string Escape(const std::string& text) {
-  std::string escaped;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
 
 // A gnuplot datablock named `name` with one point per line.
 std::string Datablock(const std::string& name,
@@ -242,7 +220,7 @@ namespace {
 // The page up to the summary table.
 std::string PageStart(const std::string& title) {
   return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
-         Escape(title) + "</title>\n" + kCheckScript +
+         HtmlEscaped(title) + "</title>\n" + kCheckScript +
          "\n<style>\nbody { font-family: sans-serif; max-width: 960px; margin: 2em auto; color: "
          "#222; }\n"
          "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 4px "
@@ -250,7 +228,7 @@ std::string PageStart(const std::string& title) {
          ".views tr.false td:first-child { color: #d62728; font-weight: bold; }\n"
          ".views tr.ignored td:first-child { color: #9467bd; }\n</style>\n"
          "</head>\n<body data-rendered=\"0\" data-errors=\"\">\n<h1>" +
-         Escape(title) + "</h1>\n";
+         HtmlEscaped(title) + "</h1>\n";
 }
 
 // What needs no ground truth: time per image, WM and dictionary, and the views when asked for.

@@ -201,8 +201,7 @@ std::string TightTimeLimitWarning(const SessionReport& report) {
   if (report.time_limit_ms <= 0 || report.results.empty()) return "";
   std::vector<double> fixed;
   for (const Result& result : report.results) {
-    const StageTimes& t = result.times;
-    fixed.push_back(std::max(0.0, t.total_ms - t.likelihood_ms - t.filter_ms - t.selection_ms));
+    fixed.push_back(std::max(0.0, result.times.total_ms - result.times.WmStagesMs()));
   }
   std::nth_element(fixed.begin(), fixed.begin() + fixed.size() / 2, fixed.end());
   const double floor_ms = fixed[fixed.size() / 2];
