@@ -6,13 +6,13 @@
 # T_time is off in every row (repeatable: the same input gives the same table on any machine; only
 # the times differ). Usage:
 #   bench/real_data.sh [DATASETS_DIR] > table.md     (default ../shared/datasets)
-# Environment: PRESETS="default paper2011", FEATURES="surf sift orb", BUILD_DIR=build,
+# Environment: PRESETS="default paper2011 hand-held", FEATURES="surf sift orb", BUILD_DIR=build,
 # SETS="name=value ..." (more parameters for every row, e.g. to measure a change of default).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 datasets=${1:-../shared/datasets}
-presets=${PRESETS:-default paper2011}
+presets=${PRESETS:-default paper2011 hand-held}
 features=${FEATURES:-surf sift orb}
 read -r -a sets <<<"${SETS:-}"
 if [ ! -d "$datasets" ]; then

@@ -35,9 +35,6 @@ struct FeatureOptions {
   double surf_max_roll_degrees = 0;
   double surf_min_roll_strength = 0.05;  // the roll estimate's strength needed (0..1)
   double surf_min_roll_degrees = 0;      // smaller rolls are described at 0, as U-SURF
-  // With surf_max_roll_degrees: a loop closure is refused when the two images' rolls differ by
-  // more than this (0: no check).
-  double surf_max_roll_difference_degrees = 0;
   // The same for OpenCV's SIFT and ORB: 1 describes every keypoint at angle 0 (memloop; OpenCV's
   // own detectors orient them, as Options::Paper2011() keeps). On the hand-held tum_fr1_rpy,
   // oriented SIFT and ORB match rolled views the ground truth calls different (docs/real-data.md).
@@ -234,6 +231,9 @@ struct VerificationOptions {
   double ransac_pixels = 3.0;
   // RANSAC: confidence that an all-inlier sample was drawn.
   double ransac_confidence = 0.99;
+  // A loop closure is refused when the camera's roll between its two views, measured from where
+  // their shared words are (view_roll.h), is over this many degrees (0 = no check, the paper).
+  double max_roll_degrees = 0;
 };
 
 struct Options {
@@ -249,9 +249,13 @@ struct Options {
   // highest neighbour sum, LoopRatio, retrieved locations kept 10 iterations). docs/design.md
   // lists each choice, what the defaults change, and what each change measured.
   static Options Paper2011();
+  // The defaults for a camera that rolls about its axis (hand-held, walking): U-SURF described in
+  // each image's rolled frame, and loop closures refused between views rolled apart
+  // (docs/design.md, "Camera roll").
+  static Options HandHeld();
 };
 
-// Names accepted by `--preset` and Preset(): "default" and "paper2011".
+// Names accepted by `--preset` and Preset(): "default", "paper2011" and "hand-held".
 Options Preset(const std::string& name);
 
 }  // namespace memloop

@@ -18,6 +18,8 @@
 #include "detector/retrieval.h"
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
+#include "detector/view_roll.h"
+#include "detector/word_correspondences.h"
 #include "memloop/errors.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
@@ -419,15 +421,13 @@ class Detector::Impl {
     hypothesis.Refuse();
   }
 
-  // Roll-compensated U-SURF (surf.max_roll_degrees): keypoints keep their image's roll.
+  // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.
   void RequireSimilarRoll(const Signature& z_t, Hypothesis& hypothesis) const {
-    const FeatureOptions& features = options_.features;
-    if (features.type != "surf" || !features.surf_upright || features.surf_max_roll_degrees <= 0 ||
-        hypothesis.id == kNoLocation) {
-      return;
-    }
-    memloop::RequireSimilarRoll(z_t, memory_.at(hypothesis.id).signature,
-                                features.surf_max_roll_difference_degrees, hypothesis);
+    const double max_degrees = options_.verification.max_roll_degrees;
+    if (max_degrees <= 0 || hypothesis.id == kNoLocation || !hypothesis.eligible) return;
+    const Signature& z_i = memory_.at(hypothesis.id).signature;
+    memloop::RequireSimilarRoll(EstimateViewRoll(UniqueWordCorrespondences(z_t, z_i)), max_degrees,
+                                hypothesis);
   }
 
   // filter.ltm_neighbour_check (hypothesis.h), at every image: the filter weighs WM alone, and a

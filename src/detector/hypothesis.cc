@@ -61,13 +61,9 @@ void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesi
   if (previous_value <= 0 || hypothesis.value < ratio * previous_value) hypothesis.Refuse();
 }
 
-void RequireSimilarRoll(const Signature& z_t, const Signature& z_i, double max_degrees,
-                        Hypothesis& hypothesis) {
-  if (max_degrees <= 0 || hypothesis.id == kNoLocation) return;
-  if (z_t.keypoints.empty() || z_i.keypoints.empty()) return;
-  double difference = std::fabs(z_t.keypoints[0].angle - z_i.keypoints[0].angle);
-  difference = std::min(difference, 360 - difference);  // 350 and 10 are 20 apart
-  if (difference > max_degrees) hypothesis.Refuse();
+void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hypothesis) {
+  if (max_degrees <= 0 || hypothesis.id == kNoLocation || !roll.known) return;
+  if (std::fabs(roll.degrees) > max_degrees) hypothesis.Refuse();
 }
 
 void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "detector/bayes_filter.h"
+#include "detector/view_roll.h"
 #include "memloop/options.h"
 #include "vocabulary/signature.h"
 
@@ -37,12 +38,12 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
 // is at least `ratio` times the previous image's highest hypothesis value, which must not be 0.
 void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis);
 
-// surf.max_roll_difference_degrees (memloop): with roll-compensated U-SURF every keypoint of an
-// image holds the image's roll as its angle (degrees); L_i is refused when its roll and the
-// image's differ by more than `max_degrees` (0: no check): views rolled that far apart are other
-// views, as U-SURF alone makes them.
-void RequireSimilarRoll(const Signature& z_t, const Signature& z_i, double max_degrees,
-                        Hypothesis& hypothesis);
+// verify.max_roll_degrees (memloop): L_i is refused when the camera's roll between the image and
+// L_i, measured from where their shared words are (view_roll.h), is known and over `max_degrees`
+// (0: no check). Roll-compensated U-SURF and oriented features make views rolled far apart look
+// alike; by what they see, they are other views (a hand-held camera turned about its axis).
+// An unknown roll (few shared words: a hypothesis the filter carries) is not refused.
+void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hypothesis);
 
 // filter.min_shared_words (memloop): L_i is refused when the image `z_t` shares fewer than
 // `min_words` words with it (eq. 1's N_pair, `z_i`). When an image matches almost nothing, mu and

@@ -173,26 +173,24 @@ TEST(HypothesisTest, LoopRatioRefusesAHypothesisBelowTheRatioOfThePreviousOne) {
   EXPECT_TRUE(hypothesis.accepted);
 }
 
-// surf.max_roll_difference_degrees: the images' rolls are their keypoints' angles (degrees).
-TEST(HypothesisTest, RollDifferenceRefusesViewsRolledApart) {
-  const auto rolled = [](float degrees) {
-    Signature signature;
-    signature.words = {1, 2};
-    signature.keypoints = {cv::KeyPoint(1, 1, 10, degrees), cv::KeyPoint(5, 5, 10, degrees)};
-    return signature;
-  };
+// verify.max_roll_degrees: a known roll over the bound refuses, an unknown one does not.
+TEST(HypothesisTest, ViewRollOverTheBoundRefuses) {
   FilterOptions options = Neighbours();
   options.min_hypotheses = 5;
-  const auto check = [&](float a, float b, double max) {
+  const auto check = [&](double degrees, bool known, double max) {
+    ViewRoll roll;
+    roll.degrees = degrees;
+    roll.known = known;
     Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
-    RequireSimilarRoll(rolled(a), rolled(b), max, hypothesis);
+    RequireSimilarRoll(roll, max, hypothesis);
     return hypothesis.accepted;
   };
-  EXPECT_TRUE(check(12, 0, 20));
-  EXPECT_FALSE(check(12, 350, 20));  // 22 apart across 0
-  EXPECT_TRUE(check(355, 10, 20));   // 15 apart across 0
-  EXPECT_FALSE(check(30, 5, 20));
-  EXPECT_TRUE(check(30, 5, 0));  // no check
+  EXPECT_TRUE(check(12, true, 18));
+  EXPECT_TRUE(check(-18, true, 18));  // at the bound
+  EXPECT_FALSE(check(-18.5, true, 18));
+  EXPECT_FALSE(check(170, true, 18));
+  EXPECT_TRUE(check(40, false, 18));  // unknown: the filter's to carry
+  EXPECT_TRUE(check(40, true, 0));    // no check
 }
 
 }  // namespace

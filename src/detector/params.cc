@@ -75,8 +75,6 @@ std::vector<Parameter> MakeRegistry() {
         .Help("U-SURF with surf.max_roll_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
     Param("surf.min_roll_degrees", MEMLOOP_FIELD(features.surf_min_roll_degrees)).Unit("degrees").Range(0, 45)
         .Help("U-SURF with surf.max_roll_degrees: a smaller estimated roll is described at angle 0, as U-SURF (which tolerates it)"),
-    Param("surf.max_roll_difference_degrees", MEMLOOP_FIELD(features.surf_max_roll_difference_degrees)).Unit("degrees").Range(0, 90)
-        .Help("U-SURF with surf.max_roll_degrees: refuse a loop closure between images whose estimated rolls differ by more than this (0 = no check)"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
         .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
     Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
@@ -174,6 +172,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Epipolar verification: RANSAC inlier distance to the epipolar line"),
     Param("verify.ransac_confidence", MEMLOOP_FIELD(verification.ransac_confidence)).AboveRange(0, 1)
         .Help("Epipolar verification: RANSAC confidence"),
+    Param("verify.max_roll_degrees", MEMLOOP_FIELD(verification.max_roll_degrees)).Unit("degrees").Range(0, 180)
+        .Help("refuse a loop closure whose two views are rolled apart by more than this, measured from where their shared words are (0 = no check, the paper)"),
   };
 }
 // clang-format on
@@ -385,7 +385,8 @@ std::string ParametersMarkdown() {
          "a test keeps this file in step with it. Set any of them with `--set NAME=VALUE`. "
          "Defaults are memloop's best measured values (docs/real-data.md); `--preset paper2011` "
          "gives the paper's (Sec. IV; where its text is silent, its 2011 code's), and "
-         "docs/design.md lists each departure. Parameters marked "
+         "docs/design.md lists each departure; `--preset hand-held` is for a camera that rolls "
+         "about its axis (docs/design.md, \"Camera roll\"). Parameters marked "
          "*map* define what a word is and how words are found: a map keeps them, and "
          "`memloop run --resume` refuses other values.\n\n"
          "| name | default | type | unit | range | paper | description |\n"

@@ -84,6 +84,14 @@ TEST(ParamsTest, PresetsByName) {
   EXPECT_EQ(Preset("default").memory.stm_size, Options().memory.stm_size);
   EXPECT_EQ(Preset("paper2011").filter.hypothesis_value, "best_neighbours");
   EXPECT_THROW(Preset("paper2013"), ParameterError);
+  // hand-held: the defaults with the roll compensated and views rolled apart refused, all valid.
+  const Options hand_held = Preset("hand-held");
+  EXPECT_EQ(hand_held.features.surf_max_roll_degrees, 45);
+  EXPECT_EQ(hand_held.verification.max_roll_degrees, 20);
+  EXPECT_EQ(hand_held.memory.stm_size, Options().memory.stm_size);
+  for (const Parameter& parameter : Parameters()) {
+    EXPECT_TRUE(parameter.Check(hand_held).empty()) << parameter.key;
+  }
 }
 
 TEST(ParamsTest, EveryParameterIsDescribed) {

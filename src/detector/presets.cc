@@ -39,13 +39,34 @@ Options Options::Paper2011() {
   options.filter.min_shared_words = 1;  // the 2011 code: the hypothesis' own score > 0
   options.filter.ltm_neighbour_check = 0;
   options.verification.min_inliers = 0;
+  options.verification.max_roll_degrees = 0;
+  return options;
+}
+
+Options Options::HandHeld() {
+  Options options;
+  // U-SURF in the frame of each image's roll, from its edges (camera_roll.h), when the edges are
+  // clear (strength 0.1: a blurred 160x120 corridor's are not) and the roll is over what U-SURF
+  // tolerates by itself (8 degrees).
+  options.features.surf_max_roll_degrees = 45;
+  options.features.surf_min_roll_degrees = 8;
+  options.features.surf_min_roll_strength = 0.1;
+  // Rolled views then look alike however far apart they were rolled; by their shared words'
+  // geometry (view_roll.h), those rolled more than 20 degrees apart are other views. Measured on
+  // tum_fr1_rpy: bounds 15-35 give no false positive without a WM budget, 45 or none three; at
+  // a quarter of WM, 25 and 30 give 13 (views 22-25 degrees apart), 18-22 none. lip6_outdoor's
+  // strict / lenient recall: 52.8% / 84.1% at 15, 53.8% / 85.0% at 20, 58.8% / 94.0% at 30
+  // (docs/design.md, "Camera roll").
+  options.verification.max_roll_degrees = 20;
   return options;
 }
 
 Options Preset(const std::string& name) {
   if (name == "default") return Options();
   if (name == "paper2011") return Options::Paper2011();
-  throw ParameterError("--preset", "unknown preset '" + name + "' (default or paper2011)");
+  if (name == "hand-held") return Options::HandHeld();
+  throw ParameterError("--preset",
+                       "unknown preset '" + name + "' (default, paper2011 or hand-held)");
 }
 
 }  // namespace memloop

@@ -23,5 +23,7 @@ Options WithSettings(Options options, const std::string& config_path,
                      const std::vector<std::string>& assignments);
 // --config FILE on `command`.
 CLI::Option* AddConfigOption(CLI::App& command, std::string* path);
+// --preset NAME on `command`.
+CLI::Option* AddPresetOption(CLI::App& command, std::string* name);
 
 }  // namespace memloop::cli

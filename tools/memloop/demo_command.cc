@@ -101,10 +101,7 @@ void AddDemoCommand(CLI::App& app) {
       "demo", "Run on the built-in synthetic route and score against its exact ground truth");
   demo->add_option("--db", arguments->database, "New map database file; default: temporary");
   demo->add_option("--out", arguments->out, "CSV of per-image results");
-  demo->add_option("--preset", arguments->preset,
-                   "Starting values: default (memloop's measured best) or paper2011 (the paper's "
-                   "mechanisms as written); --set applies on top")
-      ->capture_default_str();
+  AddPresetOption(*demo, &arguments->preset)->capture_default_str();
   AddConfigOption(*demo, &arguments->config);
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();

@@ -31,6 +31,13 @@ CLI::Option* AddConfigOption(CLI::App& command, std::string* path) {
       "applied after --preset, before --set");
 }
 
+CLI::Option* AddPresetOption(CLI::App& command, std::string* name) {
+  return command.add_option(
+      "--preset", *name,
+      "Starting values: default (memloop's measured best), paper2011 (the paper's mechanisms as "
+      "written) or hand-held (a camera that rolls about its axis); --set applies on top");
+}
+
 }  // namespace memloop::cli
 
 int main(int argc, char** argv) {

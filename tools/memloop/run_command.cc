@@ -65,10 +65,7 @@ void AddRunCommand(CLI::App& app) {
                 "change those that do not define the map)")
       ->needs(database);
   run->add_option("--out", arguments->out, "CSV of per-image results");
-  CLI::Option* preset = run->add_option(
-      "--preset", arguments->preset,
-      "Starting values: default (memloop's measured best) or paper2011 (the paper's mechanisms "
-      "as written); --set applies on top");
+  CLI::Option* preset = AddPresetOption(*run, &arguments->preset);
   AddConfigOption(*run, &arguments->config);
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
