@@ -15,6 +15,7 @@
 #include "detector/likelihood.h"
 #include "detector/memory.h"
 #include "detector/neighbourhood_cache.h"
+#include "detector/view_roll.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
@@ -334,6 +335,20 @@ void BM_AppearanceBest(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(index.Best(queries[count++ % queries.size()]));
 }
 BENCHMARK(BM_AppearanceBest)->Arg(25000)->Arg(50000)->Unit(benchmark::kMillisecond);
+
+// verify.max_roll_degrees: the view roll of the highest hypothesis, once per image, O(n^2) in the
+// words both signatures hold once (a true revisit of lip6_outdoor: a median 36, at most ~400).
+void BM_ViewRoll(benchmark::State& state) {
+  WordCorrespondences matched;
+  cv::RNG rng(7);
+  for (int k = 0; k < state.range(0); ++k) {
+    const cv::Point2f a(rng.uniform(0.f, 240.f), rng.uniform(0.f, 192.f));
+    matched.in_a.push_back(a);
+    matched.in_b.emplace_back(a.x * 0.97f + 0.26f * a.y, a.y * 0.97f - 0.26f * a.x);  // 15 degrees
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(EstimateViewRoll(matched));
+}
+BENCHMARK(BM_ViewRoll)->Arg(36)->Arg(400)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace memloop

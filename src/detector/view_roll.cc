@@ -10,6 +10,7 @@ namespace {
 constexpr double kMinSegmentPixels = 8;
 constexpr double kMaxScaleChange = 3;
 constexpr int kMinCorrespondences = 8;
+constexpr int kMaxCorrespondences = 100;
 constexpr int kHalfWindowDegrees = 7;  // with 1-degree bins: 15 degrees, +/- 7.5
 constexpr double kMinAgreement = 0.25;
 constexpr double kPi = 3.14159265358979323846;
@@ -22,13 +23,20 @@ ViewRoll EstimateViewRoll(const WordCorrespondences& matched) {
   if (roll.correspondences < kMinCorrespondences) return roll;
   std::array<double, 360> votes{};  // bin k: [k - 180, k - 179) degrees
   double total = 0;
-  for (int k = 0; k < matched.size(); ++k) {
-    for (int l = k + 1; l < matched.size(); ++l) {
+  // At most kMaxCorrespondences, the first in word order (unrelated to where they are): 4,950
+  // pairs, against 79,800 for 400 (3.7 ms, BM_ViewRoll).
+  const int n = std::min(matched.size(), kMaxCorrespondences);
+  constexpr double kMinSquared = kMinSegmentPixels * kMinSegmentPixels;
+  constexpr double kMaxScaleSquared = kMaxScaleChange * kMaxScaleChange;
+  for (int k = 0; k < n; ++k) {
+    for (int l = k + 1; l < n; ++l) {
       const cv::Point2f a = matched.in_a[l] - matched.in_a[k];
       const cv::Point2f b = matched.in_b[l] - matched.in_b[k];
-      const double length_a = std::hypot(a.x, a.y), length_b = std::hypot(b.x, b.y);
-      if (length_a < kMinSegmentPixels || length_b < kMinSegmentPixels) continue;
-      if (length_b > kMaxScaleChange * length_a || length_a > kMaxScaleChange * length_b) continue;
+      const double squared_a = a.x * a.x + a.y * a.y, squared_b = b.x * b.x + b.y * b.y;
+      if (squared_a < kMinSquared || squared_b < kMinSquared) continue;
+      if (squared_b > kMaxScaleSquared * squared_a || squared_a > kMaxScaleSquared * squared_b) {
+        continue;
+      }
       // The angle from a's segment to b's (image axes).
       const double turn = std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y) * 180 / kPi;
       const int bin = std::min(359, static_cast<int>(std::floor(turn + 180)));

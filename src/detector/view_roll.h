@@ -19,8 +19,8 @@ struct ViewRoll {
 
 // Pairs whose segment is under 8 pixels in either view, or whose length changes by more than 3x
 // (a wrong word), do not vote. Known when there are at least 8 correspondences and a quarter of
-// the votes fall within 7.5 degrees of the estimate. O(n^2) in the correspondences (at most a
-// few hundred), once per image, for the highest hypothesis.
+// the votes fall within 7.5 degrees of the estimate. O(n^2): of more than 100 correspondences,
+// the first 100 vote (0.2 ms; once per image, for the highest hypothesis).
 ViewRoll EstimateViewRoll(const WordCorrespondences& matched);
 
 }  // namespace memloop

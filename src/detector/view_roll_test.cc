@@ -12,12 +12,12 @@ constexpr double kPi = 3.14159265358979323846;
 // A 6 x 5 grid of points 30 pixels apart in view a; view b is a rolled about the image centre
 // by `degrees` (image axes: x right, y down, so a positive angle turns x toward y), scaled and
 // moved, as a camera turning about its axis while it steps forward.
-WordCorrespondences Rolled(double degrees, double scale = 1.1) {
+WordCorrespondences Rolled(double degrees, double scale = 1.1, cv::Point2f offset = {0, 0}) {
   WordCorrespondences matched;
   const double c = std::cos(degrees * kPi / 180), s = std::sin(degrees * kPi / 180);
   for (int row = 0; row < 5; ++row) {
     for (int column = 0; column < 6; ++column) {
-      const cv::Point2f a(40.0f + 30 * column, 30.0f + 30 * row);
+      const cv::Point2f a = cv::Point2f(40.0f + 30 * column, 30.0f + 30 * row) + offset;
       const double x = a.x - 120, y = a.y - 96;
       matched.in_a.push_back(a);
       matched.in_b.emplace_back(static_cast<float>(120 + 7 + scale * (c * x - s * y)),
@@ -69,6 +69,25 @@ TEST(ViewRollTest, TooFewOrDisagreeingCorrespondencesAreUnknown) {
   const ViewRoll roll = EstimateViewRoll(scattered);
   EXPECT_FALSE(roll.known);
   EXPECT_LT(roll.agreement, 0.25);
+}
+
+TEST(ViewRollTest, OfMoreThanAHundredCorrespondencesTheFirstHundredVote) {
+  // 60 correspondences rolled 10 degrees, then 100 rolled 60: the first 100 are 60 at 10 degrees
+  // (1,770 agreeing pairs) and 40 at 60 (780); all 160 would give 60 degrees (4,950 pairs).
+  WordCorrespondences matched;
+  const auto append = [&](const WordCorrespondences& part, int count) {
+    for (int k = 0; k < count; ++k) {
+      matched.in_a.push_back(part.in_a[k]);
+      matched.in_b.push_back(part.in_b[k]);
+    }
+  };
+  append(Rolled(10, 1.1, {0, 0}), 30);
+  append(Rolled(10, 1.1, {15, 15}), 30);
+  for (int grid = 0; grid < 4; ++grid) append(Rolled(60, 1.1, {7.5f * grid, 3.5f + 5 * grid}), 25);
+  const ViewRoll roll = EstimateViewRoll(matched);
+  ASSERT_TRUE(roll.known);
+  EXPECT_EQ(roll.correspondences, 160);
+  EXPECT_NEAR(roll.degrees, 10, 2.0);  // pairs across the two sets in the window pull the mean
 }
 
 TEST(ViewRollTest, ScaleChangesOverThreeTimesDoNotVote) {
