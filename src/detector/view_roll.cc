@@ -13,7 +13,6 @@ constexpr int kMinCorrespondences = 8;
 constexpr int kMaxCorrespondences = 100;
 constexpr int kHalfWindowDegrees = 7;  // with 1-degree bins: 15 degrees, +/- 7.5
 constexpr double kMinAgreement = 0.25;
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 
@@ -38,7 +37,7 @@ ViewRoll EstimateViewRoll(const WordCorrespondences& matched) {
         continue;
       }
       // The angle from a's segment to b's (image axes).
-      const double turn = std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y) * 180 / kPi;
+      const double turn = std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y) * 180 / CV_PI;
       const int bin = std::min(359, static_cast<int>(std::floor(turn + 180)));
       votes[bin] += 1;
       total += 1;

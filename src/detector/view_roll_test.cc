@@ -7,14 +7,12 @@
 namespace memloop {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// A 6 x 5 grid of points 30 pixels apart in view a; view b is a rolled about the image centre
+// A 6 x 5 grid of points 30 pixels apart in view a; view b is a, rolled about the image centre
 // by `degrees` (image axes: x right, y down, so a positive angle turns x toward y), scaled and
 // moved, as a camera turning about its axis while it steps forward.
 WordCorrespondences Rolled(double degrees, double scale = 1.1, cv::Point2f offset = {0, 0}) {
   WordCorrespondences matched;
-  const double c = std::cos(degrees * kPi / 180), s = std::sin(degrees * kPi / 180);
+  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
   for (int row = 0; row < 5; ++row) {
     for (int column = 0; column < 6; ++column) {
       const cv::Point2f a = cv::Point2f(40.0f + 30 * column, 30.0f + 30 * row) + offset;
