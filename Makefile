@@ -5,7 +5,8 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev liblz4-dev libsqlite3-dev \
             libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
-            libbenchmark-dev libmatio-dev gnuplot-nox pybind11-dev python3-dev python3-numpy
+            libbenchmark-dev libmatio-dev gnuplot-nox pybind11-dev python3-dev python3-numpy \
+            librosbag-storage-dev libsensor-msgs-dev
 # Only the tests need a browser (they open `memloop report` in headless Chromium), pytest and
 # cv2 (the Python module's tests read images as a user's script does).
 TEST_PACKAGES := chromium python3-pytest python3-opencv

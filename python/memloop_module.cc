@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "memloop/detector.h"
@@ -78,17 +79,38 @@ cv::Mat ImageOf(const py::array& array) {
   throw memloop::InputError("image", "must be H x W (grey) or H x W x 3 (BGR)");
 }
 
+memloop::MapMode ModeOf(bool resume, bool new_session) {
+  if (resume && new_session) {
+    throw memloop::ParameterError("new_session",
+                                  "resume=True goes on with the map's last session, "
+                                  "new_session=True starts another: give one");
+  }
+  return resume        ? memloop::MapMode::kResume
+         : new_session ? memloop::MapMode::kNewSession
+                       : memloop::MapMode::kNew;
+}
+
+std::optional<double> Stamp(double timestamp) {
+  if (!memloop::HasTimestamp(timestamp)) return std::nullopt;
+  return timestamp;
+}
+
 class PyDetector {
  public:
-  PyDetector(const Options& options, const std::string& path, bool resume)
-      : detector_(std::make_unique<memloop::Detector>(
-            options, path, resume ? memloop::MapMode::kResume : memloop::MapMode::kNew)) {}
+  PyDetector(const Options& options, const std::string& path, bool resume, bool new_session)
+      : detector_(std::make_unique<memloop::Detector>(options, path, ModeOf(resume, new_session))) {
+  }
 
-  memloop::Result Process(const py::array& image, int index) {
+  memloop::Result Process(const py::array& image, int index, const std::string& name,
+                          std::optional<double> timestamp) {
     const cv::Mat mat = ImageOf(image);  // `image` outlives the call: no copy needed
     memloop::Detector& detector = Live();
+    memloop::ImageInfo info;
+    info.index = index;
+    info.name = name;
+    info.timestamp = timestamp.value_or(memloop::kNoTimestamp);
     py::gil_scoped_release release;  // other Python threads run during the iteration
-    return detector.Process(mat, index);
+    return detector.Process(mat, info);
   }
   void Close() {
     if (detector_) detector_->Close();
@@ -157,9 +179,31 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("ltm_read_ms", &memloop::StageTimes::ltm_read_ms)
       .def_readonly("total_ms", &memloop::StageTimes::total_ms);
 
+  using memloop::LoopGeometry;
+  py::class_<LoopGeometry>(m, "LoopGeometry")
+      .def_readonly("query_view", &LoopGeometry::query_view)
+      .def_readonly("match_view", &LoopGeometry::match_view)
+      .def_readonly("correspondences", &LoopGeometry::correspondences)
+      .def_property_readonly(
+          "inliers",
+          [](const LoopGeometry& g) {
+            py::list pairs;
+            for (const memloop::PointPair& p : g.inliers) {
+              pairs.append(py::make_tuple(p.query_x, p.query_y, p.match_x, p.match_y));
+            }
+            return pairs;
+          })
+      .def_readonly("has_pose", &LoopGeometry::has_pose)
+      .def_readonly("rotation", &LoopGeometry::rotation)
+      .def_readonly("quaternion", &LoopGeometry::quaternion)
+      .def_readonly("translation", &LoopGeometry::translation)
+      .def_readonly("pose_inliers", &LoopGeometry::pose_inliers);
+
   using memloop::Result;
   py::class_<Result>(m, "Result")
       .def_readonly("image_index", &Result::image_index)
+      .def_property_readonly("timestamp", [](const Result& r) { return Stamp(r.timestamp); })
+      .def_readonly("session", &Result::session)
       .def_readonly("location_id", &Result::location_id)
       .def_readonly("rehearsal_merged_id", &Result::rehearsal_merged_id)
       .def_readonly("feature_count", &Result::feature_count)
@@ -172,6 +216,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("virtual_place_probability", &Result::virtual_place_probability)
       .def_readonly("loop_closure_id", &Result::loop_closure_id)
       .def_readonly("loop_closure_images", &Result::loop_closure_images)
+      .def_readonly("loop_closure_geometry", &Result::loop_closure_geometry)
       .def_readonly("retrieved_ids", &Result::retrieved_ids)
       .def_readonly("retrievals_deferred", &Result::retrievals_deferred)
       .def_readonly("retrievals_unread", &Result::retrievals_unread)
@@ -188,19 +233,25 @@ PYBIND11_MODULE(memloop, m) {
       .def("__repr__", &Result::Brief);
 
   py::class_<PyDetector>(m, "Detector")
-      .def(py::init<const Options&, const std::string&, bool>(), py::arg("options"),
-           py::arg("db_path"), py::arg("resume") = false,
+      .def(py::init<const Options&, const std::string&, bool, bool>(), py::arg("options"),
+           py::arg("db_path"), py::arg("resume") = false, py::arg("new_session") = false,
            "A new map at db_path (or, resume=True, an existing one from its last checkpoint; "
-           "with options['memory.localization'] = True, an existing map localized against, "
+           "new_session=True, an existing one given a new session; with "
+           "options['memory.localization'] = True, an existing map localized against, "
            "read-only)")
       .def("process", &PyDetector::Process, py::arg("image"), py::arg("index") = -1,
-           "One image (numpy uint8, grey or BGR as cv2 gives); returns a Result")
+           py::arg("name") = "", py::arg("timestamp") = py::none(),
+           "One image (numpy uint8, grey or BGR as cv2 gives), with the name and time stamp "
+           "(seconds) the map records; returns a Result")
       .def("close", &PyDetector::Close, "Stores STM and WM too: the map is then complete")
       .def("close_at_last_checkpoint", &PyDetector::CloseAtLastCheckpoint,
            "Closes as a crash would: the map stays at the checkpoint written by the last "
            "process() call, i.e. without the last image (for a caller that could not store its "
            "result)")
       .def_property_readonly("last_image", [](PyDetector& d) { return d.Live().last_image(); })
+      .def_property_readonly("session", [](PyDetector& d) { return d.Live().session(); })
+      .def_property_readonly("session_first_image",
+                             [](PyDetector& d) { return d.Live().session_first_image(); })
       .def("__enter__", [](PyDetector& d) -> PyDetector& { return d; })
       .def("__exit__", [](PyDetector& d, py::args) { d.Close(); });
 
@@ -224,4 +275,19 @@ PYBIND11_MODULE(memloop, m) {
       "Every parameter of the registry: name, default, type, unit, range, description");
   m.def("read_map_options", &memloop::ReadMapOptions, py::arg("db_path"),
         "The options a map was made with (for resume=True)");
+  m.def(
+      "read_map_images",
+      [](const std::string& path) {
+        py::list rows;
+        for (const memloop::MapImage& image : memloop::ReadMapImages(path)) {
+          py::dict row;
+          row["index"] = image.index;
+          row["session"] = image.session;
+          row["name"] = image.name;
+          row["timestamp"] = Stamp(image.timestamp);
+          rows.append(row);
+        }
+        return rows;
+      },
+      py::arg("db_path"), "Every image the map records: index, session, name, timestamp");
 }

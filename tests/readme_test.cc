@@ -40,12 +40,12 @@ std::vector<std::string> QuickStartCommands(const std::string& readme, const std
   return commands;
 }
 
-TEST(ReadmeTest, QuickStartCommandsRunAsWritten) {
+// Runs the commands of the README's block after `heading` in `dir` (for /tmp/).
+void RunBlock(const std::string& heading, size_t min_commands, const testing::TempDir& dir) {
   const std::string readme = testing::ReadBytes(std::string(MEMLOOP_SOURCE_DIR) + "/README.md");
-  ASSERT_NE(readme.find("## Quick start"), std::string::npos);
-  const std::vector<std::string> commands = QuickStartCommands(readme, "## Quick start");
-  ASSERT_GE(commands.size(), 5u) << "the quick start lost its commands";
-  testing::TempDir dir;
+  ASSERT_NE(readme.find(heading), std::string::npos) << heading;
+  const std::vector<std::string> commands = QuickStartCommands(readme, heading);
+  ASSERT_GE(commands.size(), min_commands) << heading << " lost its commands";
   for (const std::string& written : commands) {
     ASSERT_EQ(written.rfind("./build/memloop ", 0), 0u) << "not a memloop command: " << written;
     const std::string command = Replaced(Replaced(written, "/tmp/", dir.path().string() + "/"),
@@ -53,7 +53,20 @@ TEST(ReadmeTest, QuickStartCommandsRunAsWritten) {
     const int status = std::system((command + " > " + dir.File("out.txt") + " 2>&1").c_str());
     EXPECT_EQ(status, 0) << written << "\n" << ReadFile(dir.File("out.txt"));
   }
+}
+
+TEST(ReadmeTest, QuickStartCommandsRunAsWritten) {
+  testing::TempDir dir;
+  RunBlock("## Quick start", 5, dir);
   EXPECT_TRUE(Contains(ReadFile(dir.File("report.html")), "loop-closures"));
+}
+
+TEST(ReadmeTest, RobotDataCommandsRunAsWritten) {
+  testing::TempDir dir;
+  RunBlock("## Robot data", 5, dir);
+  EXPECT_TRUE(Contains(ReadFile(dir.File("out.txt")), "exported "));  // the last command
+  EXPECT_TRUE(Contains(ReadFile(dir.File("loops.g2o")), "\nEDGE_SE3:QUAT "));
+  EXPECT_TRUE(Contains(ReadFile(dir.File("again.csv")), ",1\n"));  // session 1's rows
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "memloop/map_info.h"
 #include "memloop/options.h"
 #include "memloop/result.h"
 
@@ -21,7 +22,22 @@ namespace memloop {
 
 enum class MapMode {
   kNew,     // a new map: the file must not exist or be empty (an existing file is not modified)
-  kResume,  // go on with the map in the file from its last checkpoint
+  kResume,  // go on with the map in the file from its last checkpoint, in its last session
+  // Open the map in the file at its last checkpoint and start a new session in it (multi-session
+  // mapping): the earlier sessions' locations stay (LTM, and WM as the checkpoint left it, STM
+  // joining WM), the new session's first location is linked to none of them, the filter starts
+  // from "a new place", and loop closures link the sessions. Its images are numbered after the
+  // map's last image (session_first_image()).
+  kNewSession,
+};
+
+// What the map records of an image besides its content.
+struct ImageInfo {
+  // Names the image in results and in the map; kNoImage: the one after the map's last image (0
+  // for a new map). A new session's images must come after the earlier sessions' images.
+  ImageIndex index = kNoImage;
+  std::string name;                 // e.g. its file name; "" when none
+  double timestamp = kNoTimestamp;  // seconds (types.h); written to the map and the results
 };
 
 class Detector {
@@ -48,6 +64,9 @@ class Detector {
   // Close()): a caller who stores each result before the next call has a map that is never ahead
   // of what it stored, and calls CloseAtLastCheckpoint() when it could not store one.
   Result Process(const cv::Mat& image, ImageIndex image_index = kNoImage);
+  // The same, with the image's name and time stamp, which the map records (MapImage). Throws
+  // InputError for an index of a new session that is not after the earlier sessions' images.
+  Result Process(const cv::Mat& image, const ImageInfo& info);
 
   // Writes a checkpoint and waits until it is committed with everything before it: a crash
   // after Flush() loses nothing (memory.checkpoint_interval bounds the loss otherwise).
@@ -57,6 +76,11 @@ class Detector {
   ImageIndex last_image() const;
   // Images processed in this map, over every run that resumed it.
   long long images_processed() const;
+  // The session new images join (0: the map's first) and its first image (before it has one, the
+  // index its first image gets by default: last_image() + 1). A resumed map goes on in its last
+  // session.
+  int session() const;
+  ImageIndex session_first_image() const;
   // Verifies the map's invariants and returns what is wrong (empty: consistent): every link is
   // symmetric and points to a location in memory or LTM; every word of an STM/WM location is in
   // the dictionary with the right reference count; every word of an LTM location is stored in
@@ -84,8 +108,11 @@ class Detector {
 
 // How far a map's last checkpoint goes: what `memloop run --resume` goes on from.
 struct MapProgress {
+  MapProgress() { last_session.id = -1; }
   ImageIndex last_image = kNoImage;  // the last image it holds
   long long images_processed = 0;    // over every run that made it
+  // Its last session (MapSession::id = -1 for a map made before memloop recorded images).
+  MapSession last_session;
 };
 // Read without changing the file. Throws DatabaseError when `path` is not a readable memloop map
 // or has no checkpoint.

@@ -17,6 +17,25 @@ struct MapLoopClosure {
   double probability = 0;  // the hypothesis value that accepted it
 };
 
+// An image of the map: what Detector::Process was told of it (ImageInfo).
+struct MapImage {
+  ImageIndex index = kNoImage;
+  int session = 0;
+  std::string name;                 // "" when the caller gave none
+  double timestamp = kNoTimestamp;  // seconds
+};
+
+// A session: the images one run (or its resumed runs) added. A new session (MapMode::kNewSession)
+// is linked to the earlier ones only by loop closures.
+struct MapSession {
+  int id = 0;  // 0 for the map's first session
+  ImageIndex first_image = kNoImage;
+  ImageIndex last_image = kNoImage;
+  long long images = 0;
+  std::string first_name, last_name;  // of its first and last images
+  double first_timestamp = kNoTimestamp, last_timestamp = kNoTimestamp;
+};
+
 struct MapInfo {
   std::string path;
   int format_version = 0;
@@ -31,6 +50,8 @@ struct MapInfo {
   long long loop_closure_links = 0;
   ImageIndex last_image = kNoImage;  // the last image a checkpoint holds (--resume goes on after)
   std::vector<MapLoopClosure> loop_closures;
+  // Empty for a map made before memloop recorded images (format 4 without the images table).
+  std::vector<MapSession> sessions;
   std::vector<std::pair<std::string, std::string>> parameters;  // name, value as stored
 };
 
@@ -38,5 +59,9 @@ struct MapInfo {
 // is not a memloop map, is of a newer format, or SQLite finds it damaged; a damaged checkpoint
 // is said in `integrity` (what LTM holds is still read).
 MapInfo InspectMap(const std::string& path);
+
+// Every image the map records, in index order (up to its last checkpoint). Throws DatabaseError
+// as InspectMap does.
+std::vector<MapImage> ReadMapImages(const std::string& path);
 
 }  // namespace memloop

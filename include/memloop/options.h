@@ -236,12 +236,20 @@ struct VerificationOptions {
   double max_roll_degrees = 0;
 };
 
+// The camera's pinhole intrinsics, in pixels: with fx and fy set, each accepted loop closure
+// comes with the geometry between its two views (Result::loop_closure_geometry: epipolar
+// inliers, relative pose). 0 = unknown: nothing is computed.
+struct CameraOptions {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
 struct Options {
   FeatureOptions features;
   DictionaryOptions dictionary;
   MemoryOptions memory;
   FilterOptions filter;
   VerificationOptions verification;
+  CameraOptions camera;
 
   // The paper's mechanisms as written (Labbe & Michaud 2011): rotation-invariant SURF, STM 25,
   // the neighbour-summed hypothesis, transfer by weight and age only; where the text is silent,

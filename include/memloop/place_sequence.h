@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "memloop/generated_layout.h"
+
 namespace memloop {
 
 struct PlaceSequenceOptions {
@@ -46,7 +48,8 @@ class PlaceSequence {
   int revisit_frames() const;
   int revisits() const { return revisits_; }
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv, as SyntheticRoute::Write.
-  void Write(const std::string& folder, const std::function<void(int)>& written = {}) const;
+  void Write(const std::string& folder, const std::function<void(int)>& written = {},
+             GeneratedLayout layout = GeneratedLayout::kImages) const;
 
  private:
   struct Frame {

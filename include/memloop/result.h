@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "memloop/loop_geometry.h"
 #include "memloop/types.h"
 
 namespace memloop {
@@ -42,6 +43,8 @@ struct Result {
   // False until Process() has run (a default Result says so).
   bool processed = false;
   ImageIndex image_index = kNoImage;
+  double timestamp = kNoTimestamp;  // ImageInfo::timestamp, seconds
+  int session = 0;                  // the map's session the image joined (Detector::session())
   // Location now standing for the image (after Rehearsal it may hold older images too);
   // kNoLocation in localization (memory.localization), where the image joins no location.
   LocationId location_id = kNoLocation;
@@ -70,6 +73,9 @@ struct Result {
   LocationId loop_closure_id = kNoLocation;
   // Images of the matched location: the one that created it first.
   std::vector<ImageIndex> loop_closure_images;
+  // With camera.fx and camera.fy set: the geometry between the image and the matched location's
+  // view (epipolar inliers, relative pose), as `memloop export` gives it; empty otherwise.
+  LoopGeometry loop_closure_geometry;
 
   std::vector<LocationId> retrieved_ids;  // LTM -> WM this iteration
   // Retrievals left for a later iteration: with T_time on, no time was left for them.

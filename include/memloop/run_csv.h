@@ -53,6 +53,8 @@ struct RunRow {
   double wm_stages_ms = 0;
   int wm_size = 0;
   int dictionary_size = 0;
+  double timestamp = kNoTimestamp;  // seconds; unknown in CSVs without it
+  int session = 0;
 };
 
 // Reads a CSV written by RunCsvWriter. Throws InputError naming the file and, for a malformed

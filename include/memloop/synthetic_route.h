@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "memloop/generated_layout.h"
 #include "memloop/ground_truth.h"
 
 namespace memloop {
@@ -51,7 +52,8 @@ class SyntheticRoute {
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv ("query,match" file names)
   // into `folder`, the layout of the data sets in ../shared/datasets. `written`, when given, is
   // called after each image with the number written so far.
-  void Write(const std::string& folder, const std::function<void(int)>& written = {}) const;
+  void Write(const std::string& folder, const std::function<void(int)>& written = {},
+             GeneratedLayout layout = GeneratedLayout::kImages) const;
 
  private:
   struct Frame {

@@ -1,7 +1,9 @@
 // Identifiers shared by the whole library.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace memloop {
 
@@ -20,5 +22,10 @@ inline constexpr WordId kNoWord = 0;
 // Index of an image in the processed sequence (0-based, in processing order).
 using ImageIndex = int;
 inline constexpr ImageIndex kNoImage = -1;
+
+// A time stamp in seconds (a dataset's clock, a video's time from its start, a camera's
+// computer clock since 1970); NaN: unknown.
+inline constexpr double kNoTimestamp = std::numeric_limits<double>::quiet_NaN();
+inline bool HasTimestamp(double timestamp) { return !std::isnan(timestamp); }
 
 }  // namespace memloop

@@ -79,4 +79,9 @@ void BayesFilter::Update(const Likelihood& likelihood, const Neighbourhoods& nei
   for (auto& entry : posterior_) entry.second /= total;
 }
 
+void BayesFilter::Forget() {
+  for (auto& entry : posterior_) entry.second = 0;
+  virtual_place_ = 1;
+}
+
 }  // namespace memloop

@@ -38,6 +38,9 @@ class BayesFilter {
   }
   // Forget a location that left WM.
   void Remove(LocationId id) { posterior_.erase(id); }
+  // A new session (MapMode::kNewSession): nothing is known of where the robot is, so the whole
+  // belief goes to the virtual place (as the filter starts), every state kept at 0.
+  void Forget();
 
  private:
   // The Gaussian's unnormalized value at each link distance 0..neighbour_range.

@@ -10,6 +10,7 @@
 #include "detector/epipolar_check.h"
 #include "detector/hypothesis.h"
 #include "detector/likelihood.h"
+#include "detector/loop_geometry.h"
 #include "detector/map_editor.h"
 #include "detector/map_parameters.h"
 #include "detector/memory.h"
@@ -103,7 +104,8 @@ class Detector::Impl {
         read_ahead_(MakeReadAhead(options_, ltm_)),
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
-    if (localizing_ || mode == MapMode::kResume) Resume(database_path);  // nothing written before
+    if (localizing_ || mode != MapMode::kNew) Resume(database_path);  // nothing written before
+    if (mode == MapMode::kNewSession && !localizing_) StartSession();
     WaitForDueRebuildsWithinTime();
     if (localizing_) {
       MoveStmToWm();
@@ -125,13 +127,19 @@ class Detector::Impl {
   }
 
   // The paper's Fig. 1, one call per box.
-  Result Process(const cv::Mat& image, ImageIndex image_index) {
+  Result Process(const cv::Mat& image, const ImageInfo& info) {
     if (closed_) throw Error("Detector::Process called after Close()");
     if (failed_) throw Error("Detector::Process called after a failed iteration");
     ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
+    if (info.index != kNoImage && info.index <= earlier_sessions_last_image_) {
+      throw InputError("image " + std::to_string(info.index),
+                       "a new session's images come after the earlier sessions' (the last is "
+                       "image " +
+                           std::to_string(earlier_sessions_last_image_) + ")");
+    }
     try {
-      return localizing_ ? Localize(gray, image_index) : Iterate(gray, image_index);
+      return localizing_ ? Localize(gray, info) : Iterate(gray, info);
     } catch (...) {
       failed_ = true;  // memory is half-updated: the file stays at its last checkpoint
       throw;
@@ -144,6 +152,10 @@ class Detector::Impl {
   }
   ImageIndex last_image() const { return counters_.last_image; }
   long long images_processed() const { return counters_.images_processed; }
+  int session() const { return session_; }
+  ImageIndex session_first_image() const {
+    return session_first_image_ != kNoImage ? session_first_image_ : counters_.last_image + 1;
+  }
   void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
   std::vector<std::string> CheckConsistency() {
     std::vector<std::string> problems = memloop::CheckConsistency(
@@ -182,8 +194,9 @@ class Detector::Impl {
  private:
   // The paper's Fig. 1, one call per box. The resume checkpoint of this image's state is written
   // at the start of the next one (StartIteration): see Detector::Process.
-  Result Iterate(const cv::Mat& gray, ImageIndex image_index) {
-    Result result = StartIteration(image_index);
+  Result Iterate(const cv::Mat& gray, const ImageInfo& info) {
+    Result result = StartIteration(info);
+    ltm_.RecordImage({result.image_index, session_, info.name, info.timestamp});
     const Stopwatch& iteration = iteration_;
     const LocationId t = CreateLocation(gray, result);      // III-A
     Rehearse(t, result);                                    // III-B, eq. 1
@@ -205,8 +218,8 @@ class Detector::Impl {
   // is matched against WM but does not join the map: no location, word, link or weight is made,
   // nothing is written. Retrieval and transfer still move locations between WM and LTM (III-E,
   // F), in memory only: LTM is read-only and keeps what leaves WM in its overlay.
-  Result Localize(const cv::Mat& gray, ImageIndex image_index) {
-    Result result = StartIteration(image_index);
+  Result Localize(const cv::Mat& gray, const ImageInfo& info) {
+    Result result = StartIteration(info);
     const Stopwatch& iteration = iteration_;
     Appearance appearance;
     const Signature z_t = MatchImage(gray, result, &appearance);              // III-A
@@ -220,12 +233,15 @@ class Detector::Impl {
     return result;
   }
 
-  Result StartIteration(ImageIndex image_index) {
+  Result StartIteration(const ImageInfo& info) {
     iteration_ = Stopwatch();
     Result result;
     WriteDueCheckpoint(result);  // the previous image's, before anything changes
     result.processed = true;
-    result.image_index = image_index == kNoImage ? counters_.images_processed : image_index;
+    result.image_index = info.index == kNoImage ? counters_.last_image + 1 : info.index;
+    result.timestamp = info.timestamp;
+    result.session = session_;
+    if (session_first_image_ == kNoImage) session_first_image_ = result.image_index;
     ++counters_.images_processed;
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
@@ -238,7 +254,7 @@ class Detector::Impl {
 
   LtmDatabase::Mode FileMode(MapMode mode) const {
     if (localizing_) return LtmDatabase::Mode::kRead;  // whatever `mode`: the map must exist
-    return mode == MapMode::kResume ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kCreate;
+    return mode == MapMode::kNew ? LtmDatabase::Mode::kCreate : LtmDatabase::Mode::kOpen;
   }
 
   // Localization: the map's STM is its newest places, as much part of it as WM's; with no new
@@ -247,6 +263,19 @@ class Detector::Impl {
     const std::deque<LocationId> stm = memory_.stm();
     memory_.MoveStmOverflowToWm(0);
     for (LocationId id : stm) filter_.Add(id);
+  }
+
+  // MapMode::kNewSession: nothing links the new session's first location to the old ones, the
+  // filter forgets where the robot was, and STM joins WM (a new image is not the continuation of
+  // the last session's, so nothing holds them out of the filter).
+  void StartSession() {
+    MoveStmToWm();
+    filter_.Forget();
+    counters_.newest_location = kNoLocation;
+    previous_hypothesis_value_ = 0;
+    earlier_sessions_last_image_ = counters_.last_image;
+    session_first_image_ = kNoImage;
+    ++session_;
   }
 
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
@@ -271,6 +300,7 @@ class Detector::Impl {
     filter_.Reload(std::move(state.posterior), state.virtual_place);
     editor_.SetPastMatches(std::move(state.past_matches));
     counters_ = state.counters;
+    ResumeSession(database.ReadSessions());
     const std::vector<std::string> problems = CheckConsistency();
     if (!problems.empty()) {
       throw DatabaseError(
@@ -279,6 +309,20 @@ class Detector::Impl {
                          ? ", and " + std::to_string(problems.size() - 1) + " more problems)"
                          : ")"));
     }
+  }
+
+  // A resumed map goes on in its last session. A map made before images were recorded is one
+  // session (0) from image 0.
+  void ResumeSession(const std::vector<MapSession>& sessions) {
+    if (sessions.empty()) {
+      session_ = 0;
+      session_first_image_ = counters_.last_image == kNoImage ? kNoImage : 0;
+      return;
+    }
+    session_ = sessions.back().id;
+    session_first_image_ = sessions.back().first_image;
+    earlier_sessions_last_image_ =
+        sessions.size() > 1 ? sessions[sessions.size() - 2].last_image : kNoImage;
   }
 
   // The previous image's checkpoint, when memory.checkpoint_interval makes one due. With T_time
@@ -466,6 +510,18 @@ class Detector::Impl {
     result.loop_closure_images = memory_.at(i).images;  // with the past matches it absorbed
     ltm_.RecordLoopClosure(
         {result.image_index, memory_.at(i).images.front(), t, i, hypothesis.value});
+    DescribeGeometry(t, i, result);
+  }
+
+  // camera.fx..cy: the two views' epipolar inliers and relative pose, for a SLAM back-end.
+  void DescribeGeometry(LocationId t, LocationId i, Result& result) const {
+    const CameraOptions& camera = options_.camera;
+    if (camera.fx <= 0) return;
+    result.loop_closure_geometry =
+        EstimateLoopGeometry(memory_.at(t).signature, memory_.at(i).signature,
+                             {camera.fx, camera.fy, camera.cx, camera.cy}, options_.verification);
+    result.loop_closure_geometry.query_view = result.image_index;
+    result.loop_closure_geometry.match_view = memory_.at(i).images.front();
   }
 
   // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
@@ -605,6 +661,9 @@ class Detector::Impl {
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
   bool closed_ = false;
+  int session_ = 0;                            // the session new images join
+  ImageIndex session_first_image_ = kNoImage;  // its first image, kNoImage before it has one
+  ImageIndex earlier_sessions_last_image_ = kNoImage;  // new images must come after it
 };
 
 Detector::Detector(const Options& options, const std::string& database_path, MapMode mode)
@@ -619,12 +678,19 @@ Detector::~Detector() {
 }
 
 Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
-  return impl_->Process(image, image_index);
+  ImageInfo info;
+  info.index = image_index;
+  return impl_->Process(image, info);
+}
+Result Detector::Process(const cv::Mat& image, const ImageInfo& info) {
+  return impl_->Process(image, info);
 }
 
 void Detector::Flush() { impl_->Flush(); }
 ImageIndex Detector::last_image() const { return impl_->last_image(); }
 long long Detector::images_processed() const { return impl_->images_processed(); }
+int Detector::session() const { return impl_->session(); }
+ImageIndex Detector::session_first_image() const { return impl_->session_first_image(); }
 void Detector::SetWriterHeld(bool held) { impl_->SetWriterHeld(held); }
 std::vector<std::string> Detector::CheckConsistency() { return impl_->CheckConsistency(); }
 void Detector::Close() { impl_->Close(); }

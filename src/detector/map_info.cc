@@ -45,10 +45,16 @@ MapInfo InspectMap(const std::string& path) {
       database.QueryNumber("SELECT coalesce(max(image), -1) FROM location_images"));
   if (checkpoint_problem.empty()) AddCheckpoint(database, info);  // else what LTM holds alone
   info.loop_closures = database.ReadLoopClosures();
+  info.sessions = database.ReadSessions();
   for (auto& [key, value] : database.ReadInfoWithPrefix("param.")) {
     info.parameters.emplace_back(key.substr(6), value);
   }
   return info;
+}
+
+std::vector<MapImage> ReadMapImages(const std::string& path) {
+  LtmDatabase database(path, LtmDatabase::Mode::kRead);
+  return database.ReadImages();
 }
 
 }  // namespace memloop

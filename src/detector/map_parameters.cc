@@ -49,7 +49,12 @@ MapProgress ReadMapProgress(const std::string& path) {
                         "has no resume checkpoint (the run that made it stopped before its first "
                         "one was committed): start a new map instead");
   }
-  return MapProgress{counters->last_image, counters->images_processed};
+  MapProgress progress;
+  progress.last_image = counters->last_image;
+  progress.images_processed = counters->images_processed;
+  const std::vector<MapSession> sessions = database.ReadSessions();
+  if (!sessions.empty()) progress.last_session = sessions.back();
+  return progress;
 }
 
 Options ReadMapOptions(const std::string& path) {

@@ -174,6 +174,14 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Epipolar verification: RANSAC confidence"),
     Param("verify.max_roll_degrees", MEMLOOP_FIELD(verification.max_roll_degrees)).Unit("degrees").Range(0, 180)
         .Help("refuse a loop closure whose two views are rolled apart by more than this, measured from where their shared words are (0 = no check, the paper)"),
+    Param("camera.fx", MEMLOOP_FIELD(camera.fx)).Unit("pixels").Range(0, 1e6)
+        .Help("Focal length along x: with camera.fy, each loop closure comes with its epipolar inliers and the relative pose of its two views (essential matrix; 0 = unknown, none computed)"),
+    Param("camera.fy", MEMLOOP_FIELD(camera.fy)).Unit("pixels").Range(0, 1e6)
+        .Help("Focal length along y (0 = unknown)"),
+    Param("camera.cx", MEMLOOP_FIELD(camera.cx)).Unit("pixels").Range(0, 1e6)
+        .Help("Principal point, x"),
+    Param("camera.cy", MEMLOOP_FIELD(camera.cy)).Unit("pixels").Range(0, 1e6)
+        .Help("Principal point, y"),
   };
 }
 // clang-format on
@@ -373,6 +381,10 @@ void ValidateOptions(const Options& options) {
       throw ParameterError(parameter.key, "Invalid parameter " + parameter.key + " = " +
                                               parameter.Get(options) + ": " + problem);
     }
+  }
+  if ((options.camera.fx > 0) != (options.camera.fy > 0)) {
+    throw ParameterError(options.camera.fx > 0 ? "camera.fy" : "camera.fx",
+                         "camera.fx and camera.fy: give both focal lengths, or neither");
   }
 }
 

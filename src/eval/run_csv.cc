@@ -37,7 +37,16 @@ constexpr const char* kHeader =
     "features,words,"
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
-    "ltm_wait_ms,cpu_ms,ltm_read_ms";
+    "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session";
+
+// Seconds to the microsecond (TUM's resolution; EuRoC's nanoseconds are beyond a double's
+// precision at today's epoch anyway); empty when unknown.
+std::string FormatTimestamp(double timestamp) {
+  if (!HasTimestamp(timestamp)) return "";
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.6f", timestamp);
+  return text;
+}
 
 }  // namespace
 
@@ -164,7 +173,8 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
       << ',' << t.transfer_ms << ',' << t.checkpoint_ms << ',' << result.stm_size << ','
       << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << ',' << t.ltm_wait_ms
-      << ',' << t.cpu_ms << ',' << t.ltm_read_ms << '\n';
+      << ',' << t.cpu_ms << ',' << t.ltm_read_ms << ',' << FormatTimestamp(result.timestamp) << ','
+      << result.session << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
@@ -299,11 +309,17 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
     }
     row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
     row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));
+    if (column.count("timestamp") && !text("timestamp").empty()) {
+      row.timestamp = real_of("timestamp", -1e12, 1e12);
+    }
+    if (column.count("session")) row.session = static_cast<int>(integer_of("session", kMaxId));
     rows.push_back(std::move(row));
   }
   // Images are indexed by their position in the input, skipped (unreadable) ones included: a run
   // that names an image far beyond its rows is not memloop's (and would size the ground truth).
-  if (!rows.empty() && rows.back().image >= 2 * static_cast<ImageIndex>(rows.size()) + 16) {
+  // A later session's rows start after the earlier sessions' images.
+  if (!rows.empty() &&
+      rows.back().image - rows.front().image >= 2 * static_cast<ImageIndex>(rows.size()) + 16) {
     throw InputError(path, "image " + std::to_string(rows.back().image) +
                                " (last line) is beyond "
                                "what a run of " +

@@ -34,17 +34,18 @@ class VideoSequence : public ImageSequence {
 
   bool Next(Frame* frame) override {
     cv::Mat image;
+    double time_ms = 0;
     while (true) {
       if (!capture_.read(image) || image.empty()) return false;
       ++read_;
       // The frame's time: its timestamp, or its number over the frame rate when there is none.
-      const double time_ms =
-          fps_ > 0 ? (read_ - 1) * 1000.0 / fps_ : capture_.get(cv::CAP_PROP_POS_MSEC);
+      time_ms = fps_ > 0 ? (read_ - 1) * 1000.0 / fps_ : capture_.get(cv::CAP_PROP_POS_MSEC);
       if (period_ms_ <= 0 || time_ms + 1e-6 >= due_ms_) break;
     }
     if (period_ms_ > 0) due_ms_ += period_ms_;
     frame->index = next_++;
     frame->name = "frame " + std::to_string(read_);
+    frame->timestamp = time_ms / 1000;
     frame->image = image;
     frame->error.clear();
     frame->dropped = 0;
@@ -96,6 +97,9 @@ class CameraSequence : public ImageSequence {
     previous_read_ = Clock::now();
     frame->index = next_;
     frame->name = "frame " + std::to_string(++next_);
+    // The computer's clock (seconds since 1970), as other sensors on the robot are stamped.
+    frame->timestamp =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     frame->image = image;
     frame->error.clear();
     return true;

@@ -9,7 +9,9 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "input/bag_sequence.h"
 #include "input/capture_sequence.h"
+#include "input/dataset_listing.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -54,29 +56,35 @@ cv::Mat ReadImage(const std::string& path, std::string* error) {
   return image;
 }
 
-class FolderSequence : public ImageSequence {
+// A plain folder or a dataset's listing: images known by name before any is read.
+class ListedSequence : public ImageSequence {
  public:
-  FolderSequence(std::string folder, std::vector<std::string> names)
-      : folder_(std::move(folder)), names_(std::move(names)) {}
+  ListedSequence(InputFormat format, std::vector<ListedImage> images)
+      : format_(format), images_(std::move(images)) {}
 
   void SkipTo(ImageIndex first) override {
-    next_ = std::max(next_, std::min(names_.size(), static_cast<size_t>(std::max(first, 0))));
+    next_ = std::max(next_, std::min(images_.size(), static_cast<size_t>(std::max(first, 0))));
   }
 
   bool Next(Frame* frame) override {
-    if (next_ >= names_.size()) return false;
-    frame->index = static_cast<ImageIndex>(next_);
-    frame->name = names_[next_++];
-    const std::string path = (fs::path(folder_) / frame->name).string();
+    if (next_ >= images_.size()) return false;
+    const ListedImage& image = images_[next_];
+    frame->index = static_cast<ImageIndex>(next_++);
+    frame->name = image.name;
+    frame->timestamp = image.timestamp;
     frame->error.clear();
-    frame->image = ReadImage(path, &frame->error);
+    frame->image = ReadImage(image.path, &frame->error);
     return true;
   }
-  int size() const override { return static_cast<int>(names_.size()); }
+  int size() const override { return static_cast<int>(images_.size()); }
+  std::string NameOf(ImageIndex index) const override {
+    return index >= 0 && static_cast<size_t>(index) < images_.size() ? images_[index].name : "";
+  }
+  InputFormat format() const override { return format_; }
 
  private:
-  std::string folder_;
-  std::vector<std::string> names_;
+  InputFormat format_;
+  std::vector<ListedImage> images_;
   size_t next_ = 0;
 };
 
@@ -148,14 +156,32 @@ std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (error || !fs::exists(status)) throw InputError(path, "no such file or folder");
-  if (fs::is_directory(status)) {
-    if (options.rate_hz > 0) {
-      throw InputError(path,
-                       "a rate needs timestamps: a video or a camera, not a folder of images");
+  if (IsBag(path)) {
+    if (options.format != InputFormat::kAuto) {
+      throw InputError(path, std::string("--format ") + InputFormatName(options.format) +
+                                 " reads a folder of images, and this is a bag (--topic "
+                                 "chooses its images)");
     }
-    std::vector<std::string> names = ListFolder(path);
-    if (names.empty()) throw InputError(path, "the folder holds no image");
-    return std::make_unique<FolderSequence>(path, std::move(names));
+    return OpenBag(path, options);
+  }
+  if (!options.topic.empty()) {
+    throw InputError(path, "--topic " + options.topic +
+                               " names a topic of a bag, and this is not one (a .bag file, a "
+                               ".db3 file or a ROS 2 bag folder with metadata.yaml)");
+  }
+  if (fs::is_directory(status)) {
+    DatasetListing listing = ListDataset(path, options.format);
+    if (options.rate_hz > 0 && listing.format == InputFormat::kFolder) {
+      throw InputError(path,
+                       "a rate needs timestamps: a dataset folder (TUM rgb.txt, EuRoC data.csv, "
+                       "KITTI times.txt), a video or a camera, not a plain folder of images");
+    }
+    return std::make_unique<ListedSequence>(listing.format,
+                                            SampleAtRate(listing.images, options.rate_hz));
+  }
+  if (options.format != InputFormat::kAuto) {
+    throw InputError(path, std::string("--format ") + InputFormatName(options.format) +
+                               " reads a folder, and this is a file (a video needs no --format)");
   }
   return OpenVideo(path, options.rate_hz);
 }

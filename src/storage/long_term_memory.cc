@@ -133,6 +133,8 @@ void LongTermMemory::Enqueue(Operation operation) {
     bytes += appearance->entries.size() * sizeof(uint32_t);
   } else if (const auto* vocabulary = std::get_if<VocabularyOp>(&operation)) {
     bytes += vocabulary->rows.size();
+  } else if (const auto* image = std::get_if<MapImage>(&operation)) {
+    bytes += image->name.size();
   }
   if (read_only_) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -227,6 +229,7 @@ void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) 
 }
 
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
+void LongTermMemory::RecordImage(const MapImage& image) { Enqueue(image); }
 
 void LongTermMemory::StoreAppearance(LocationId id, std::vector<uint32_t> entries) {
   Enqueue(AppearanceOp{id, std::move(entries)});
@@ -467,6 +470,8 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
     database.WriteLink(link->from, link->to, link->loop_closure);
   } else if (const auto* record = std::get_if<LoopClosureRecord>(&operation)) {
     database.WriteLoopClosure(*record);
+  } else if (const auto* image = std::get_if<MapImage>(&operation)) {
+    database.WriteImage(*image);
   } else if (const auto* info = std::get_if<InfoOp>(&operation)) {
     database.WriteInfo(info->key, info->value);
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {

@@ -109,6 +109,8 @@ class LongTermMemory {
   // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
   void AddLink(LocationId from, LocationId to, bool loop_closure);
   void RecordLoopClosure(const LoopClosureRecord& record);
+  // An image Process() was given: its name, time stamp and session (ltm_images.cc).
+  void RecordImage(const MapImage& image);
   // Retrieval by appearance: a new location's description, and new vocabulary entries from
   // `first_entry` on (rows: their descriptors, one after the other). Kept in the file for resuming.
   void StoreAppearance(LocationId id, std::vector<uint32_t> entries);
@@ -186,7 +188,7 @@ class LongTermMemory {
   };
   using Operation =
       std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
-                   LoopClosureRecord, InfoOp, CheckpointData, AppearanceOp, VocabularyOp>;
+                   LoopClosureRecord, InfoOp, CheckpointData, AppearanceOp, VocabularyOp, MapImage>;
   struct Queued {
     long long sequence;
     size_t bytes;

@@ -199,6 +199,7 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
       "PRAGMA foreign_keys=OFF;");
   if (mode == Mode::kCreate) CreateSchema();
   CreateAppearanceTables();
+  CreateImageTable();
 }
 
 void LtmDatabase::CreateAppearanceTables() {

@@ -91,6 +91,12 @@ class LtmDatabase {
   void WriteAppearanceVocabulary(int first_entry, const std::vector<WordId>& words,
                                  const std::vector<unsigned char>& rows);
 
+  // The map's images and sessions (ltm_images.cc). Maps made before the table get it when opened
+  // to write; read-only, they read as empty.
+  void WriteImage(const MapImage& image);
+  std::vector<MapImage> ReadImages();
+  std::vector<MapSession> ReadSessions();
+
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
@@ -122,6 +128,7 @@ class LtmDatabase {
   static int CheckMapFile(const std::string& path, Mode mode);
   void CreateSchema();
   void CreateAppearanceTables();
+  void CreateImageTable();
   bool HasTable(const std::string& name);
   SqliteStatement& Cached(const std::string& sql);
 

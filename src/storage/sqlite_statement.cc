@@ -114,6 +114,10 @@ double SqliteStatement::Double(int column) const {
   return sqlite3_column_double(statement_, column);
 }
 
+bool SqliteStatement::IsNull(int column) const {
+  return sqlite3_column_type(statement_, column) == SQLITE_NULL;
+}
+
 std::string SqliteStatement::Text(int column) const {
   const unsigned char* text = sqlite3_column_text(statement_, column);
   return text ? reinterpret_cast<const char*>(text) : "";

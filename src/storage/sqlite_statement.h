@@ -49,6 +49,7 @@ class SqliteStatement {
 
   long long Int(int column) const;
   double Double(int column) const;
+  bool IsNull(int column) const;
   std::string Text(int column) const;
   std::vector<unsigned char> Blob(int column) const;
 

@@ -101,10 +101,11 @@ int PlaceSequence::revisit_frames() const {
   return frames;
 }
 
-void PlaceSequence::Write(const std::string& folder,
-                          const std::function<void(int)>& written) const {
+void PlaceSequence::Write(const std::string& folder, const std::function<void(int)>& written,
+                          GeneratedLayout layout) const {
   WriteSequence(
-      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written);
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written,
+      layout);
 }
 
 }  // namespace memloop

@@ -91,10 +91,11 @@ std::vector<std::pair<int, int>> SyntheticRoute::GroundTruthPairs() const {
   return pairs;
 }
 
-void SyntheticRoute::Write(const std::string& folder,
-                           const std::function<void(int)>& written) const {
+void SyntheticRoute::Write(const std::string& folder, const std::function<void(int)>& written,
+                           GeneratedLayout layout) const {
   WriteSequence(
-      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written);
+      folder, size(), [this](int index) { return Render(index); }, GroundTruthPairs(), written,
+      layout);
 }
 
 }  // namespace memloop

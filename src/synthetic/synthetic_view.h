@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "memloop/generated_layout.h"
+
 namespace memloop {
 
 // A gray texture of random shapes of random gray levels over smooth noise: corners and blobs
@@ -25,12 +27,12 @@ struct ViewJitter {
 cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& jitter, int width,
                    int height, uint64_t noise_seed);
 
-// Writes `folder`/images/1.png .. N.png (frame i from `render(i)`) and
-// `folder`/ground_truth_pairs.csv ("query,match" file names), the layout of ../shared/datasets.
-// Throws InputError naming the file that cannot be written. `written(n)` after each image, if
-// given.
+// Writes frame i from `render(i)` into `folder` in `layout` (generated_layout.h), and
+// `folder`/ground_truth_pairs.csv ("query,match" by the names a run gives the frames). Throws
+// InputError naming the file that cannot be written. `written(n)` after each image, if given.
 void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
                    const std::vector<std::pair<int, int>>& pairs,
-                   const std::function<void(int)>& written = {});
+                   const std::function<void(int)>& written = {},
+                   GeneratedLayout layout = GeneratedLayout::kImages);
 
 }  // namespace memloop

@@ -87,6 +87,40 @@ def test_localization_leaves_the_map_unchanged(route, tmp_path):
     assert map_path.read_bytes() == before
 
 
+def test_a_second_session_with_names_and_time_stamps(route, tmp_path):
+    paths, _ = route
+    map_path = str(tmp_path / "sessions.db")
+    with memloop.Detector(memloop.Options(NO_TIME_LIMIT), map_path) as detector:
+        for index in range(0, 110):  # lap 1 and its detour
+            detector.process(cv2.imread(paths[index]), index, name=os.path.basename(paths[index]),
+                             timestamp=100 + 0.5 * index)
+    options = memloop.read_map_options(map_path)
+    options["camera.fx"], options["camera.fy"] = 300.0, 300.0
+    options["camera.cx"], options["camera.cy"] = 160.0, 120.0
+    across = 0
+    posed = 0
+    with memloop.Detector(options, map_path, new_session=True) as detector:
+        assert detector.session == 1 and detector.session_first_image == 110
+        for index in range(110, 190):  # lap 2
+            result = detector.process(cv2.imread(paths[index]), index, name=f"{index + 1}.png")
+            assert result.session == 1 and result.timestamp is None
+            across += result.has_loop_closure and result.loop_closure_images[0] < 110
+            geometry = result.loop_closure_geometry
+            if geometry.has_pose:
+                posed += 1
+                assert abs(sum(t * t for t in geometry.translation) - 1) < 1e-6
+                assert len(geometry.inliers) >= geometry.pose_inliers
+                assert geometry.query_view == index
+    assert across >= 40  # of 80
+    assert posed > 0
+    images = memloop.read_map_images(map_path)
+    assert len(images) == 190
+    assert images[3] == {"index": 3, "session": 0, "name": "4.png", "timestamp": 101.5}
+    assert images[150]["session"] == 1 and images[150]["timestamp"] is None
+    with pytest.raises(memloop.Error, match="give one"):
+        memloop.Detector(options, map_path, resume=True, new_session=True)
+
+
 def test_grey_images_and_results(tmp_path):
     image = np.random.default_rng(3).integers(0, 256, (240, 320), dtype=np.uint8)
     detector = memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "grey.db"))

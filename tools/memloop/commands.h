@@ -16,6 +16,7 @@ void AddParamsCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
+void AddExportCommand(CLI::App& app);
 
 // `options` (a preset's, or a map's) with the parameter file `config_path` ("" = none), then each
 // "--set NAME=VALUE" in order, applied: later settings win. Throws memloop::Error.

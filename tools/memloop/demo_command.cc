@@ -16,7 +16,12 @@ namespace memloop::cli {
 namespace {
 
 // The demo prints its scores, not a line per loop closure (hundreds on the route).
-constexpr SessionOptions kScoredSession{/*resume=*/false, /*print_loop_closures=*/false};
+SessionOptions ScoredSession() {
+  SessionOptions session;
+  session.print_loop_closures = false;
+  return session;
+}
+const SessionOptions kScoredSession = ScoredSession();
 
 // Frames rendered on demand from a generated sequence (SyntheticRoute or PlaceSequence).
 template <typename Generated>
@@ -94,6 +99,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string preset = "default";
     int seed = SyntheticRouteOptions().seed;
     std::string folder;
+    std::string layout = "images";
     PlaceSequenceOptions places;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -137,25 +143,36 @@ void AddDemoCommand(CLI::App& app) {
   });
 
   CLI::App* generate = app.add_subcommand(
-      "generate", "Write the synthetic route as images/1.png..N.png with ground_truth_pairs.csv");
+      "generate",
+      "Write the synthetic route as images/1.png..N.png (or a TUM folder, or a ROS 2 bag) with "
+      "ground_truth_pairs.csv");
   generate->add_option("folder", arguments->folder, "Folder to write into (created if missing)")
       ->required();
   generate->add_option("--seed", arguments->seed, "Seed of the generated world")
       ->capture_default_str();
+  generate
+      ->add_option("--layout", arguments->layout,
+                   "images (images/N.png), tum (rgb/N.png and rgb.txt, 10 Hz) or ros2-bag "
+                   "(ros2_bag/: /camera/image_raw, 10 Hz)")
+      ->check(CLI::IsMember({"images", "tum", "ros2-bag"}))
+      ->capture_default_str();
   CLI::Option* generate_places = AddPlaceOptions(*generate, &arguments->places);
   generate->callback([arguments, generate_places] {
+    const GeneratedLayout layout = ParseGeneratedLayout(arguments->layout);
     if (generate_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       const PlaceSequence places(arguments->places);
       Progress progress(places.size(), "images written");
-      places.Write(arguments->folder, [&](int written) { progress.Update(written); });
+      places.Write(
+          arguments->folder, [&](int written) { progress.Update(written); }, layout);
       return;
     }
     SyntheticRouteOptions route_options;
     route_options.seed = arguments->seed;
     const SyntheticRoute route(route_options);
     Progress progress(route.size(), "images written");
-    route.Write(arguments->folder, [&](int written) { progress.Update(written); });
+    route.Write(
+        arguments->folder, [&](int written) { progress.Update(written); }, layout);
   });
 }
 

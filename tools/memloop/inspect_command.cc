@@ -21,6 +21,18 @@ nlohmann::json Json(const MapInfo& info) {
   }
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [name, value] : info.parameters) parameters[name] = value;
+  nlohmann::json sessions = nlohmann::json::array();
+  for (const MapSession& session : info.sessions) {
+    const auto stamp = [](double t) { return HasTimestamp(t) ? nlohmann::json(t) : nullptr; };
+    sessions.push_back({{"id", session.id},
+                        {"first_image", session.first_image},
+                        {"last_image", session.last_image},
+                        {"images", session.images},
+                        {"first_name", session.first_name},
+                        {"last_name", session.last_name},
+                        {"first_timestamp", stamp(session.first_timestamp)},
+                        {"last_timestamp", stamp(session.last_timestamp)}});
+  }
   return {{"path", info.path},
           {"format_version", info.format_version},
           {"integrity", info.integrity},
@@ -31,6 +43,7 @@ nlohmann::json Json(const MapInfo& info) {
           {"words", info.words},
           {"neighbour_links", info.neighbour_links},
           {"loop_closure_links", info.loop_closure_links},
+          {"sessions", sessions},
           {"loop_closures", loops},
           {"parameters", parameters}};
 }
@@ -44,6 +57,16 @@ void PrintText(const MapInfo& info) {
   std::printf("words in LTM: %lld\n", info.words);
   std::printf("links: %lld neighbour, %lld loop closure\n", info.neighbour_links,
               info.loop_closure_links);
+  std::printf("sessions: %zu\n", info.sessions.size());
+  for (const MapSession& session : info.sessions) {
+    std::printf("  session %d: images %d to %d (%lld), '%s' to '%s'", session.id,
+                session.first_image, session.last_image, session.images, session.first_name.c_str(),
+                session.last_name.c_str());
+    if (HasTimestamp(session.first_timestamp) && HasTimestamp(session.last_timestamp)) {
+      std::printf(", %.3f s to %.3f s", session.first_timestamp, session.last_timestamp);
+    }
+    std::printf("\n");
+  }
   std::printf("loop closures: %zu\n", info.loop_closures.size());
   for (const MapLoopClosure& loop : info.loop_closures) {
     std::printf("  image %d -> image %d (location %d -> %d), p=%.3f\n", loop.query_image,

@@ -1,5 +1,6 @@
-// memloop run IMAGES_DIR|VIDEO_FILE|--camera N [--rate HZ] [--db FILE [--resume]]
-//             [--config FILE] [--set NAME=VALUE ...] [--out FILE.csv]
+// memloop run IMAGES_DIR|DATASET_DIR|BAG [--topic T]|VIDEO_FILE|--camera N [--format F] [--rate HZ]
+//             [--db FILE [--resume|--new-session]] [--config FILE] [--set NAME=VALUE ...]
+//             [--out FILE.csv]
 // With --set memory.localization=1 and --db MAP, images are localized against MAP, unchanged.
 #include <cmath>
 #include <cstdlib>
@@ -39,21 +40,37 @@ void AddRunCommand(CLI::App& app) {
     std::string config;
     std::string preset;
     bool resume = false;
+    bool new_session = false;
+    std::string format = "auto";
+    std::string topic;
     int camera = -1;
     double rate_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* run = app.add_subcommand(
-      "run", "Detect loop closures in a folder of images (natural numeric order) or a video");
-  CLI::Option* input = run->add_option("input", arguments->input, "Folder of images or video file");
+      "run",
+      "Detect loop closures in a folder of images (natural numeric order), a dataset folder with "
+      "timestamps (TUM, EuRoC, KITTI), a ROS bag or a video");
+  CLI::Option* input =
+      run->add_option("input", arguments->input,
+                      "Folder of images, dataset folder, ROS 1 bag (.bag), ROS 2 bag (folder with "
+                      "metadata.yaml, or .db3) or video file");
+  run->add_option("--topic", arguments->topic,
+                  "The bag's topic of sensor_msgs/Image or CompressedImage; default: its only "
+                  "image topic");
   CLI::Option* camera =
       run->add_option("--camera", arguments->camera,
                       "Live camera number (0 = the first) instead of an input; stop with Ctrl-C")
           ->check(Number("a camera number (0 or more)", 0, true));
   input->excludes(camera);
+  run->add_option("--format", arguments->format,
+                  "How the folder lists its images: auto (a dataset layout when one is "
+                  "recognised), folder (every file, natural order), tum (rgb.txt), euroc "
+                  "(mav0/cam0/data.csv), kitti (times.txt or image_00/timestamps.txt)")
+      ->check(CLI::IsMember({"auto", "folder", "tum", "euroc", "kitti"}));
   run->add_option("--rate", arguments->rate_hz,
-                  "Frames per second to take from a video (by timestamp) or a camera (the paper: "
-                  "1); default every frame")
+                  "Frames per second to take from a video or a dataset folder (by timestamp) or a "
+                  "camera (the paper: 1); default every frame")
       ->check(Number("a number of frames per second over 0", 0, false));
   CLI::Option* database =
       run->add_option("--db", arguments->database,
@@ -64,18 +81,25 @@ void AddRunCommand(CLI::App& app) {
                 "holds are processed, --out is continued, parameters are the map's (--set may "
                 "change those that do not define the map)")
       ->needs(database);
+  run->add_flag("--new-session", arguments->new_session,
+                "Add the input to the map in --db as a new session (multi-session mapping): its "
+                "images are linked to the map's only by loop closures; parameters are the map's")
+      ->needs(database)
+      ->excludes("--resume");
   run->add_option("--out", arguments->out, "CSV of per-image results");
   CLI::Option* preset = AddPresetOption(*run, &arguments->preset);
   AddConfigOption(*run, &arguments->config);
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
   preset->excludes(run->get_option("--resume"));
+  preset->excludes(run->get_option("--new-session"));
   run->callback([arguments] {
-    Options options = WithSettings(
-        arguments->resume ? ReadMapOptions(arguments->database)
-                          : Preset(arguments->preset.empty() ? "default" : arguments->preset),
-        arguments->config, arguments->assignments);
-    if (options.memory.localization && !arguments->resume) {
+    const bool extends = arguments->resume || arguments->new_session;
+    Options options =
+        WithSettings(extends ? ReadMapOptions(arguments->database)
+                             : Preset(arguments->preset.empty() ? "default" : arguments->preset),
+                     arguments->config, arguments->assignments);
+    if (options.memory.localization && !extends) {
       if (arguments->database.empty()) {
         throw ParameterError("memory.localization",
                              "memory.localization=1 needs --db MAP: the map to localize against");
@@ -93,11 +117,15 @@ void AddRunCommand(CLI::App& app) {
     }
     SequenceOptions sequence_options;
     sequence_options.rate_hz = arguments->rate_hz;
+    sequence_options.format = ParseInputFormat(arguments->format);
+    sequence_options.topic = arguments->topic;
     auto sequence = arguments->camera >= 0
                         ? ImageSequence::OpenCamera(arguments->camera, sequence_options)
                         : ImageSequence::Open(arguments->input, sequence_options);
     SessionOptions session;
     session.resume = arguments->resume;
+    session.new_session = arguments->new_session;
+    session.input = arguments->input;
     const SessionReport report =
         RunSession(*sequence, options, arguments->database, arguments->out, session);
     std::cout << Summary(report) << "\n";

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "interrupt.h"
 #include "memloop/detector.h"
@@ -97,50 +98,115 @@ void KeepMapBehind(Detector& detector, Write write) {
   }
 }
 
+// --resume: the input must be the one the map's last session was made from. Names are compared
+// where both sides know them (a folder or dataset; not a video or a camera, nor a map made before
+// memloop recorded images).
+void CheckInputContinues(const ImageSequence& sequence, const MapProgress& progress,
+                         const std::string& database_path, const std::string& input) {
+  const MapSession& session = progress.last_session;
+  if (session.id < 0) return;
+  const int held = session.last_image - session.first_image + 1;
+  const std::string label = input.empty() ? "the input" : input;
+  if (sequence.size() >= 0 && sequence.size() < held) {
+    throw InputError(label, fmt::format("holds {} images, where the map {} holds {} of it (images "
+                                        "{} to {}): not the input the map was made from",
+                                        sequence.size(), database_path, held, session.first_image,
+                                        session.last_image));
+  }
+  const std::string first = sequence.NameOf(0);
+  const std::string last = sequence.NameOf(held - 1);
+  if (first.empty() || session.first_name.empty()) return;
+  if (first != session.first_name || last != session.last_name) {
+    throw InputError(
+        label, fmt::format("does not continue the map {}: its session {} began with '{}' and "
+                           "holds up to '{}', where this input's images 1 and {} are '{}' and "
+                           "'{}' (give the input it was made from, or use --new-session)",
+                           database_path, session.id, session.first_name, session.last_name, held,
+                           first, last));
+  }
+}
+
 }  // namespace
 
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
                          const SessionOptions& session) {
   const bool localizing = options.memory.localization != 0;
-  if (localizing && (database_path.empty() || session.resume)) {
+  const bool extends = session.resume || session.new_session;  // an existing map
+  if (localizing && (database_path.empty() || extends)) {
     throw ParameterError("memory.localization",
                          database_path.empty()
                              ? "memory.localization=1 needs the map to localize against (--db)"
-                             : "--resume extends the map, memory.localization=1 does not: use "
-                               "one or the other");
+                             : std::string(session.resume ? "--resume" : "--new-session") +
+                                   " extends the map, memory.localization=1 does not: use one "
+                                   "or the other");
+  }
+  if (session.resume && session.new_session) {
+    throw ParameterError("--new-session",
+                         "--resume goes on with the map's last session, "
+                         "--new-session starts another: use one or the other");
+  }
+  if (extends && database_path.empty()) {
+    throw ParameterError(session.resume ? "--resume" : "--new-session",
+                         "needs the map to extend (--db)");
   }
   // Outputs are checked before anything is created or opened for writing: a refused run leaves
   // no file behind and changes none.
   if (!csv_path.empty()) CheckDistinct(csv_path, database_path);
   if (!csv_path.empty() && !session.resume) RunCsvWriter::CheckCanCreate(csv_path);
-  if (!csv_path.empty() && session.resume) {
-    const MapProgress progress = ReadMapProgress(database_path);
-    RunCsvWriter::CheckContinues(csv_path, progress.last_image, progress.images_processed);
+  if (session.resume) {
+    // A map whose checkpoint cannot be read is refused by the detector below, saying why.
+    std::optional<MapProgress> progress;
+    try {
+      progress = ReadMapProgress(database_path);
+    } catch (const DatabaseError&) {
+      if (!csv_path.empty()) throw;
+    }
+    if (progress) {
+      CheckInputContinues(sequence, *progress, database_path, session.input);
+      // A later session's CSV holds that session's images only.
+      const long long images = progress->last_session.id > 0 ? progress->last_session.images
+                                                             : progress->images_processed;
+      if (!csv_path.empty()) RunCsvWriter::CheckContinues(csv_path, progress->last_image, images);
+    }
   }
+  if (session.new_session) ReadMapProgress(database_path);  // refused before anything is opened
   std::unique_ptr<TemporaryDatabase> temporary;
   if (database_path.empty()) temporary = std::make_unique<TemporaryDatabase>();
   const std::string& map_path = temporary ? temporary->path() : database_path;
   auto detector = std::make_unique<Detector>(options, map_path,
-                                             session.resume ? MapMode::kResume : MapMode::kNew);
+                                             session.resume        ? MapMode::kResume
+                                             : session.new_session ? MapMode::kNewSession
+                                                                   : MapMode::kNew);
   std::unique_ptr<RunCsvWriter> csv;
   if (localizing) {
     std::cout << "localizing against " << database_path << " (" << detector->images_processed()
               << " images in the map; it is not modified)" << std::endl;
   }
+  // The input's frame 0 is the session's first image.
+  const ImageIndex first_image = detector->session_first_image();
+  if (session.new_session) {
+    std::cout << "new session " << detector->session() << " in " << database_path
+              << ": its images from image " << first_image << " on ("
+              << detector->images_processed() << " images in the map)" << std::endl;
+  }
   if (session.resume) {
     std::cout << "resuming " << database_path << " after image " << detector->last_image() << " ("
-              << detector->images_processed() << " images in the map)" << std::endl;
-    sequence.SkipTo(detector->last_image() + 1);
+              << detector->images_processed() << " images in the map";
+    if (detector->session() > 0) {
+      std::cout << "; session " << detector->session() << " from image " << first_image;
+    }
+    std::cout << ")" << std::endl;
+    sequence.SkipTo(detector->last_image() + 1 - first_image);
     if (!csv_path.empty()) {
       csv = std::make_unique<RunCsvWriter>(csv_path, detector->last_image());
     }
   } else if (!csv_path.empty()) {
-    try {
+    try {  // a new map's or a new session's CSV
       csv = std::make_unique<RunCsvWriter>(csv_path);
     } catch (const Error&) {
       detector.reset();
-      if (!temporary && !localizing) RemoveMap(map_path);  // this run's new, empty map
+      if (!temporary && !localizing && !extends) RemoveMap(map_path);  // this run's new, empty map
       throw;
     }
   }
@@ -165,7 +231,11 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       ++report.skipped;
       continue;
     }
-    Result result = detector->Process(frame.image, frame.index);
+    ImageInfo info;
+    info.index = first_image + frame.index;
+    info.name = frame.name;
+    info.timestamp = frame.timestamp;
+    Result result = detector->Process(frame.image, info);
     if (result.HasLoopClosure()) {
       ++loop_closures;
       if (session.print_loop_closures) progress.Print(result.Brief(), stdout);
@@ -173,7 +243,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     if (csv) KeepMapBehind(*detector, [&] { csv->Write(frame.name, result); });
     report.names.push_back(frame.name);
     report.results.push_back(std::move(result));
-    progress.Update(frame.index + 1, loop_closures);
+    progress.Update(frame.index + 1, loop_closures);  // of the input
   }
   report.interrupted_by = interrupt.signal();
   if (csv) KeepMapBehind(*detector, [&] { csv->Close(); });

@@ -22,14 +22,18 @@ struct SessionReport {
 struct SessionOptions {
   bool resume = false;              // go on with the map at the database path
   bool print_loop_closures = true;  // a line on stdout per loop closure, as it is found
+  bool new_session = false;         // a new session in the map at the database path
+  std::string input;                // names the input in errors ("" for a camera)
 };
 
 // Feeds every frame of `sequence` to a Detector writing its map to `database_path` ("" = a
 // temporary file removed afterwards), and the per-image rows to `csv_path` ("" = none), one
 // flushed row per image. With `resume`, the map in `database_path` goes on from its last
 // checkpoint: frames up to the image it holds are skipped, and the CSV keeps its rows up to that
-// image. Outputs are checked before any is created. SIGINT/SIGTERM end the run after the current
-// image, with the map closed (see interrupted_by).
+// image; the input must continue the map's last session (its first and last images' names, when
+// both are known). With `new_session`, the map gets a new session (MapMode::kNewSession) whose
+// images are numbered after the map's. Outputs are checked before any is created. SIGINT/SIGTERM
+// end the run after the current image, with the map closed (see interrupted_by).
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
                          const SessionOptions& session = {});

@@ -1,0 +1,57 @@
+#include "memloop/map_export.h"
+
+#include <map>
+
+#include "detector/loop_geometry.h"
+#include "memloop/detector.h"
+#include "memloop/errors.h"
+#include "storage/ltm_database.h"
+
+namespace memloop {
+
+std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
+                                                    const CameraIntrinsics& intrinsics) {
+  const Options options = ReadMapOptions(map_path);
+  LtmDatabase database(map_path, LtmDatabase::Mode::kRead);
+  std::map<ImageIndex, MapImage> images;
+  for (MapImage& image : database.ReadImages()) images[image.index] = std::move(image);
+  // The location that holds each image now (a location absorbs others: rehearsal, past matches).
+  std::map<ImageIndex, LocationId> holder;
+  for (LocationId id : database.ReadLocationIds()) {
+    if (const std::optional<Location> location = database.ReadLocation(id)) {
+      for (ImageIndex image : location->images) holder[image] = id;
+    }
+  }
+  const auto image_of = [&](ImageIndex index) {
+    const auto found = images.find(index);
+    if (found != images.end()) return found->second;
+    MapImage unknown;
+    unknown.index = index;
+    return unknown;
+  };
+  std::vector<ExportedLoopClosure> loops;
+  for (const MapLoopClosure& loop : database.ReadLoopClosures()) {
+    ExportedLoopClosure exported{loop, image_of(loop.query_image), image_of(loop.match_image), {}};
+    const auto query = holder.find(loop.query_image);
+    const auto match = holder.find(loop.match_image);
+    if (query != holder.end() && match != holder.end() && query->second != match->second) {
+      const Location query_location = *database.ReadLocation(query->second);
+      const Location match_location = *database.ReadLocation(match->second);
+      exported.geometry = EstimateLoopGeometry(query_location.signature, match_location.signature,
+                                               intrinsics, options.verification);
+      exported.geometry.query_view = query_location.images.front();
+      exported.geometry.match_view = match_location.images.front();
+    }
+    loops.push_back(std::move(exported));
+  }
+  return loops;
+}
+
+ExportFormat ParseExportFormat(const std::string& name) {
+  if (name == "json") return ExportFormat::kJson;
+  if (name == "g2o") return ExportFormat::kG2o;
+  if (name == "tum") return ExportFormat::kTum;
+  throw ParameterError("--format", "--format: '" + name + "' is not one of json, g2o, tum");
+}
+
+}  // namespace memloop

@@ -1,0 +1,76 @@
+#include "input/ros_image.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace memloop {
+
+cv::Mat DecodeRawImage(const RawImage& image, std::string* error) {
+  const std::string& encoding = image.encoding;
+  int type = -1;
+  int conversion = -1;  // to gray or BGR
+  if (encoding == "mono8" || encoding == "8UC1") {
+    type = CV_8UC1;
+  } else if (encoding == "bgr8" || encoding == "8UC3") {
+    type = CV_8UC3;
+  } else if (encoding == "rgb8") {
+    type = CV_8UC3, conversion = cv::COLOR_RGB2BGR;
+  } else if (encoding == "bgra8" || encoding == "8UC4") {
+    type = CV_8UC4, conversion = cv::COLOR_BGRA2BGR;
+  } else if (encoding == "rgba8") {
+    type = CV_8UC4, conversion = cv::COLOR_RGBA2BGR;
+  } else if (encoding == "mono16" || encoding == "16UC1") {
+    type = CV_16UC1;
+  } else {
+    *error = "image encoding '" + encoding +
+             "' is not read (mono8, mono16, bgr8, rgb8, bgra8, rgba8 are; or CompressedImage)";
+    return cv::Mat();
+  }
+  const size_t row_bytes = static_cast<size_t>(image.width) * CV_ELEM_SIZE(type);
+  if (image.height == 0 || image.width == 0 || image.step < row_bytes ||
+      image.size < static_cast<size_t>(image.height) * image.step) {
+    *error = "image data is shorter than its size says (" + std::to_string(image.width) + "x" +
+             std::to_string(image.height) + ", step " + std::to_string(image.step) + ", " +
+             std::to_string(image.size) + " bytes)";
+    return cv::Mat();
+  }
+  const cv::Mat view(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                     const_cast<uint8_t*>(image.data), image.step);
+  cv::Mat result;
+  if (type == CV_16UC1) {
+    cv::Mat swapped = view.clone();
+    if (image.big_endian) {
+      for (int y = 0; y < swapped.rows; ++y) {
+        auto* row = swapped.ptr<uint16_t>(y);
+        for (int x = 0; x < swapped.cols; ++x)
+          row[x] = static_cast<uint16_t>((row[x] << 8) | (row[x] >> 8));
+      }
+    }
+    // The range the image uses, to 8 bits: a 16-bit camera's values seldom fill 65,535.
+    double low = 0, high = 0;
+    cv::minMaxLoc(swapped, &low, &high);
+    swapped.convertTo(result, CV_8U, high > low ? 255.0 / (high - low) : 1,
+                      high > low ? -low * 255.0 / (high - low) : 0);
+    return result;
+  }
+  if (conversion >= 0) {
+    cv::cvtColor(view, result, conversion);
+    return result;
+  }
+  return view.clone();
+}
+
+cv::Mat DecodeCompressedImage(const uint8_t* data, size_t size, std::string* error) {
+  cv::Mat image;
+  try {
+    if (size > 0)
+      image = cv::imdecode(cv::Mat(1, static_cast<int>(size), CV_8U, const_cast<uint8_t*>(data)),
+                           cv::IMREAD_COLOR);
+  } catch (const cv::Exception& exception) {
+    *error = exception.what();
+  }
+  if (image.empty() && error->empty()) *error = "compressed image data that does not decode";
+  return image;
+}
+
+}  // namespace memloop

@@ -1,0 +1,113 @@
+// memloop export MAP.db [--format json|g2o|tum] [--intrinsics fx,fy,cx,cy] --out FILE: the map's
+// loop closures for a SLAM back-end, read without changing the map.
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "memloop/errors.h"
+#include "memloop/map_export.h"
+
+namespace memloop::cli {
+namespace {
+
+nlohmann::json Stamp(double timestamp) {
+  return HasTimestamp(timestamp) ? nlohmann::json(timestamp) : nlohmann::json(nullptr);
+}
+
+nlohmann::json ImageJson(const MapImage& image, LocationId location) {
+  return {{"image", image.index},
+          {"name", image.name},
+          {"timestamp", Stamp(image.timestamp)},
+          {"session", image.session},
+          {"location", location}};
+}
+
+nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
+                    const CameraIntrinsics& intrinsics) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const ExportedLoopClosure& loop : loops) {
+    const LoopGeometry& g = loop.geometry;
+    nlohmann::json inliers = nlohmann::json::array();
+    for (const PointPair& pair : g.inliers) {
+      inliers.push_back({pair.query_x, pair.query_y, pair.match_x, pair.match_y});
+    }
+    nlohmann::json pose = nullptr;
+    if (g.has_pose) {
+      pose = {{"rotation", g.rotation},
+              {"quaternion_xyzw", g.quaternion},
+              {"translation_direction", g.translation},
+              {"inliers", g.pose_inliers}};
+    }
+    rows.push_back({{"query", ImageJson(loop.query, loop.loop.query_location)},
+                    {"match", ImageJson(loop.match, loop.loop.match_location)},
+                    {"hypothesis_value", loop.loop.probability},
+                    {"views", {g.query_view, g.match_view}},
+                    {"correspondences", g.correspondences},
+                    {"inliers", inliers},
+                    {"pose", pose}});
+  }
+  nlohmann::json camera = nullptr;
+  if (intrinsics.known()) {
+    camera = {
+        {"fx", intrinsics.fx}, {"fy", intrinsics.fy}, {"cx", intrinsics.cx}, {"cy", intrinsics.cy}};
+  }
+  return {{"intrinsics", camera},
+          {"pose_convention",
+           "x_match = R x_query + t, |t| = 1 (the query camera in the match "
+           "camera's frame; a single camera gives no scale)"},
+          {"loop_closures", rows}};
+}
+
+}  // namespace
+
+void AddExportCommand(CLI::App& app) {
+  struct Arguments {
+    std::string map;
+    std::string format = "json";
+    std::string intrinsics;
+    std::string out;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "export",
+      "A map's loop closures for a SLAM back-end: both images (name, index, time stamp, session), "
+      "the hypothesis value, the epipolar inliers and, with --intrinsics, the relative pose");
+  command->add_option("map", arguments->map, "Map database file (--db of a run)")->required();
+  command
+      ->add_option("--format", arguments->format,
+                   "json (everything), g2o (EDGE_SE3:QUAT lines) or tum (time stamps and "
+                   "pose per line); g2o and tum need --intrinsics")
+      ->check(CLI::IsMember({"json", "g2o", "tum"}));
+  command->add_option("--intrinsics", arguments->intrinsics,
+                      "Camera intrinsics fx,fy,cx,cy in pixels: the relative pose from the "
+                      "essential matrix");
+  command->add_option("--out", arguments->out, "File to write")->required();
+  command->callback([arguments] {
+    const ExportFormat format = ParseExportFormat(arguments->format);
+    const CameraIntrinsics intrinsics =
+        arguments->intrinsics.empty() ? CameraIntrinsics() : ParseIntrinsics(arguments->intrinsics);
+    if (format != ExportFormat::kJson && !intrinsics.known()) {
+      throw ParameterError("--intrinsics", "--format " + arguments->format +
+                                               " writes relative poses: give the camera's "
+                                               "--intrinsics fx,fy,cx,cy");
+    }
+    const std::vector<ExportedLoopClosure> loops = ExportLoopClosures(arguments->map, intrinsics);
+    if (format == ExportFormat::kJson) {
+      std::ofstream out(arguments->out);
+      if (!out) throw InputError(arguments->out, "cannot write the export file");
+      out << Json(loops, intrinsics).dump(2) << "\n";
+      out.close();
+      if (!out) throw InputError(arguments->out, "writing the export failed (disk full?)");
+    } else {
+      WriteLoopClosures(loops, format, intrinsics, arguments->out);
+    }
+    int posed = 0;
+    for (const ExportedLoopClosure& loop : loops) posed += loop.geometry.has_pose;
+    std::cout << "exported " << loops.size() << " loop closures to " << arguments->out;
+    if (intrinsics.known()) std::cout << " (" << posed << " with a relative pose)";
+    std::cout << "\n";
+  });
+}
+
+}  // namespace memloop::cli
