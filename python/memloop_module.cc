@@ -197,6 +197,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("rotation", &LoopGeometry::rotation)
       .def_readonly("quaternion", &LoopGeometry::quaternion)
       .def_readonly("translation", &LoopGeometry::translation)
+      .def_readonly("translation_known", &LoopGeometry::translation_known)
       .def_readonly("pose_inliers", &LoopGeometry::pose_inliers);
 
   using memloop::Result;

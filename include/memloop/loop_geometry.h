@@ -30,13 +30,16 @@ struct LoopGeometry {
   ImageIndex query_view = kNoImage, match_view = kNoImage;
   int correspondences = 0;         // words each view holds once
   std::vector<PointPair> inliers;  // of the fundamental matrix (RANSAC, the map's verify.*)
-  // With intrinsics, when the essential matrix has a solution: the query camera's pose in the
-  // match camera's frame (x_match = rotation * x_query + translation), translation of unit norm.
+  // With intrinsics: the query camera's pose in the match camera's frame (x_match = rotation *
+  // x_query + translation), from the essential matrix (translation of unit norm), or from a
+  // rotation alone when it explains the matches as well (a camera turned where it stands).
   bool has_pose = false;
   std::array<double, 9> rotation{};     // row-major
   std::array<double, 4> quaternion{};   // x, y, z, w of `rotation`
-  std::array<double, 3> translation{};  // unit direction
-  int pose_inliers = 0;                 // of the essential matrix, in front of both cameras
+  std::array<double, 3> translation{};  // unit direction; 0 when not known
+  // False when a rotation alone explains the matches (a baseline too short for a direction).
+  bool translation_known = false;
+  int pose_inliers = 0;  // of the model chosen (essential: in front of both cameras)
 };
 
 }  // namespace memloop

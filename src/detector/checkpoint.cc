@@ -57,6 +57,7 @@ class ByteReader {
     return value;
   }
   // A count of items of `item_bytes` each, checked against the bytes left.
+  bool AtEnd() const { return position_ == bytes_.size(); }
   size_t Count(size_t item_bytes) {
     const auto count = Get<uint64_t>();
     if (count > (bytes_.size() - position_) / std::max<size_t>(item_bytes, 1)) {
@@ -110,6 +111,7 @@ std::vector<unsigned char> EncodeLocation(const Location& location) {
     writer.Put(keypoint.size).Put(keypoint.angle).Put(keypoint.response);
     writer.Put<int32_t>(keypoint.octave);
   }
+  writer.Put<int32_t>(signature.image);
   return writer.Take();
 }
 
@@ -132,6 +134,8 @@ Location DecodeLocation(const std::vector<unsigned char>& bytes) {
     location.signature.keypoints.emplace_back(cv::Point2f(x, y), size, angle, response,
                                               reader.Get<int32_t>());
   }
+  // Checkpoints written before the signature's image was kept end here.
+  if (!reader.AtEnd()) location.signature.image = reader.Get<int32_t>();
   reader.ExpectEnd();
   return location;
 }

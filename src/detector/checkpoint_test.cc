@@ -23,6 +23,7 @@ Location SampleLocation() {
   location.neighbours = {6, 8};
   location.loop_closures = {2};
   location.images = {7, 12};
+  location.signature.image = 12;  // its keypoints are image 12's (Rehearsal)
   return location;
 }
 
@@ -38,6 +39,12 @@ TEST(CheckpointTest, LocationsRoundTripExactly) {
   EXPECT_EQ(decoded.neighbours, location.neighbours);
   EXPECT_EQ(decoded.loop_closures, location.loop_closures);
   EXPECT_EQ(decoded.images, location.images);
+  EXPECT_EQ(decoded.signature.image, 12);
+  // A checkpoint written before the signature's image was kept: the same, the image unknown.
+  std::vector<unsigned char> older = EncodeLocation(location);
+  older.resize(older.size() - sizeof(int32_t));
+  EXPECT_EQ(DecodeLocation(older).signature.image, kNoImage);
+  EXPECT_EQ(DecodeLocation(older).signature.words, location.signature.words);
 }
 
 TEST(CheckpointTest, DamagedLocationBytesAreRefused) {

@@ -369,6 +369,7 @@ class Detector::Impl {
     int new_words = 0;
     const WordId first_new_word = memory_.dictionary().next_word_id();
     Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    signature.image = result.image_index;
     Appearance appearance = Describe(signature, features.descriptors, first_new_word);
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
@@ -520,8 +521,8 @@ class Detector::Impl {
     result.loop_closure_geometry =
         EstimateLoopGeometry(memory_.at(t).signature, memory_.at(i).signature,
                              {camera.fx, camera.fy, camera.cx, camera.cy}, options_.verification);
-    result.loop_closure_geometry.query_view = result.image_index;
-    result.loop_closure_geometry.match_view = memory_.at(i).images.front();
+    result.loop_closure_geometry.query_view = ViewOf(memory_.at(t));
+    result.loop_closure_geometry.match_view = ViewOf(memory_.at(i));
   }
 
   // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location

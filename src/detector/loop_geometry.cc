@@ -1,5 +1,6 @@
 #include "detector/loop_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <opencv2/calib3d.hpp>
@@ -34,27 +35,111 @@ std::array<double, 4> QuaternionOf(const cv::Matx33d& r) {
   return q;
 }
 
-// The pose between the two views from the inliers, through the essential matrix. recoverPose
-// gives x_match = R x_query + t for points1 = query.
-void EstimatePose(const std::vector<cv::Point2f>& query, const std::vector<cv::Point2f>& match,
-                  const CameraIntrinsics& k, double ransac_pixels, LoopGeometry& geometry) {
-  if (query.size() < 5) return;  // the five-point algorithm's minimum
-  const cv::Matx33d camera(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
-  cv::Mat mask;
-  const cv::Mat essential =
-      cv::findEssentialMat(query, match, camera, cv::RANSAC, 0.999, ransac_pixels, mask);
-  if (essential.rows != 3 || essential.cols != 3) return;  // none, or several solutions
-  cv::Mat rotation, translation;
-  const int inliers = cv::recoverPose(essential, query, match, camera, rotation, translation, mask);
-  if (inliers < 5) return;
-  const cv::Matx33d r(rotation);
-  const cv::Vec3d t(translation);
+cv::Vec3d Bearing(const cv::Point2f& pixel, const CameraIntrinsics& k) {
+  const cv::Vec3d ray((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, 1);
+  return ray / cv::norm(ray);
+}
+
+// The rotation that best takes `from` onto `to` (Kabsch, by SVD), with det = +1.
+cv::Matx33d Kabsch(const std::vector<cv::Vec3d>& from, const std::vector<cv::Vec3d>& to) {
+  cv::Matx33d covariance = cv::Matx33d::zeros();
+  for (size_t i = 0; i < from.size(); ++i) covariance += to[i] * from[i].t();
+  cv::Mat w, u, vt;
+  cv::SVD::compute(cv::Mat(covariance), w, u, vt);
+  cv::Matx33d r = cv::Matx33d(cv::Mat(u * vt));
+  if (cv::determinant(r) < 0) {
+    cv::Mat flip = cv::Mat::eye(3, 3, CV_64F);
+    flip.at<double>(2, 2) = -1;
+    r = cv::Matx33d(cv::Mat(u * flip * vt));
+  }
+  return r;
+}
+
+// A rotation alone, b_match = R b_query for the bearing vectors: RANSAC over pairs (seeded),
+// then a fit to every inlier. What a small baseline (a camera turned where it stands) leaves
+// the essential matrix unable to say.
+struct RotationOnly {
+  cv::Matx33d rotation = cv::Matx33d::eye();
+  int inliers = 0;
+};
+RotationOnly EstimateRotationOnly(const std::vector<cv::Point2f>& query,
+                                  const std::vector<cv::Point2f>& match,
+                                  const CameraIntrinsics& k, double ransac_pixels) {
+  std::vector<cv::Vec3d> from, to;
+  for (size_t i = 0; i < query.size(); ++i) {
+    from.push_back(Bearing(query[i], k));
+    to.push_back(Bearing(match[i], k));
+  }
+  const double max_angle = ransac_pixels / (0.5 * (k.fx + k.fy));
+  const auto inliers_of = [&](const cv::Matx33d& r, std::vector<int>* which) {
+    int count = 0;
+    for (size_t i = 0; i < from.size(); ++i) {
+      const double angle = std::acos(std::min(1.0, (r * from[i]).dot(to[i])));
+      if (angle > max_angle) continue;
+      ++count;
+      if (which) which->push_back(static_cast<int>(i));
+    }
+    return count;
+  };
+  RotationOnly best;
+  cv::RNG random(0);
+  const int n = static_cast<int>(from.size());
+  for (int iteration = 0; iteration < 200 && n >= 2; ++iteration) {
+    const int a = random.uniform(0, n);
+    const int b = random.uniform(0, n);
+    if (a == b) continue;
+    const cv::Matx33d r = Kabsch({from[a], from[b]}, {to[a], to[b]});
+    const int count = inliers_of(r, nullptr);
+    if (count > best.inliers) best = {r, count};
+  }
+  std::vector<int> which;
+  inliers_of(best.rotation, &which);
+  if (which.size() >= 2) {
+    std::vector<cv::Vec3d> fit_from, fit_to;
+    for (int i : which) fit_from.push_back(from[i]), fit_to.push_back(to[i]);
+    const cv::Matx33d refined = Kabsch(fit_from, fit_to);
+    const int count = inliers_of(refined, nullptr);
+    if (count >= best.inliers) best = {refined, count};
+  }
+  return best;
+}
+
+void SetPose(const cv::Matx33d& r, const cv::Vec3d* t, int inliers, LoopGeometry& geometry) {
   geometry.has_pose = true;
   geometry.pose_inliers = inliers;
   for (int i = 0; i < 9; ++i) geometry.rotation[i] = r(i / 3, i % 3);
   geometry.quaternion = QuaternionOf(r);
-  const double norm = cv::norm(t);
-  for (int i = 0; i < 3; ++i) geometry.translation[i] = norm > 0 ? t[i] / norm : 0;
+  geometry.translation_known = t != nullptr;
+  const double norm = t ? cv::norm(*t) : 0;
+  for (int i = 0; i < 3; ++i) geometry.translation[i] = norm > 0 ? (*t)[i] / norm : 0;
+}
+
+// The pose between the two views from the inliers, through the essential matrix (recoverPose
+// gives x_match = R x_query + t for points1 = query), unless a rotation alone explains the
+// matches as well (kRotationShare of the essential matrix's inliers, or more): then the baseline
+// is too short for a translation, and the essential matrix's rotation is noise-driven (on
+// tum_fr1_rpy, baselines of 1-6 cm: median error 9 degrees with it, docs/export.md).
+void EstimatePose(const std::vector<cv::Point2f>& query, const std::vector<cv::Point2f>& match,
+                  const CameraIntrinsics& k, double ransac_pixels, LoopGeometry& geometry) {
+  constexpr double kRotationShare = 0.9;
+  if (query.size() < 5) return;  // the five-point algorithm's minimum
+  const RotationOnly rotation_only = EstimateRotationOnly(query, match, k, ransac_pixels);
+  const cv::Matx33d camera(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+  cv::Mat mask;
+  const cv::Mat essential =
+      cv::findEssentialMat(query, match, camera, cv::RANSAC, 0.999, ransac_pixels, mask);
+  int inliers = 0;
+  cv::Mat rotation, translation;
+  if (essential.rows == 3 && essential.cols == 3) {  // else none, or several solutions
+    inliers = cv::recoverPose(essential, query, match, camera, rotation, translation, mask);
+  }
+  if (rotation_only.inliers >= 5 && rotation_only.inliers >= kRotationShare * inliers) {
+    SetPose(rotation_only.rotation, nullptr, rotation_only.inliers, geometry);
+    return;
+  }
+  if (inliers < 5) return;
+  const cv::Vec3d t(translation);
+  SetPose(cv::Matx33d(rotation), &t, inliers, geometry);
 }
 
 double ParseNumber(const std::string& text, const std::string& option, const std::string& whole) {

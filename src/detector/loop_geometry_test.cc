@@ -53,6 +53,7 @@ TEST(LoopGeometryTest, RecoversTheRelativePoseOfTwoKnownCameras) {
   EXPECT_GE(geometry.inliers.size(), 56u);
   EXPECT_LE(geometry.inliers.size(), 58u);
   ASSERT_TRUE(geometry.has_pose);
+  EXPECT_TRUE(geometry.translation_known);  // 1 m at 6-12 m: parallax a rotation cannot explain
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(geometry.rotation[i], r(i / 3, i % 3), 1e-3) << i;
   const double norm = std::sqrt(1 + 0.04);
   EXPECT_NEAR(geometry.translation[0], 1 / norm, 1e-3);
@@ -73,6 +74,21 @@ TEST(LoopGeometryTest, RecoversTheRelativePoseOfTwoKnownCameras) {
   const LoopGeometry unposed = EstimateLoopGeometry(views.query, views.match, {}, verification);
   EXPECT_EQ(unposed.inliers.size(), geometry.inliers.size());
   EXPECT_FALSE(unposed.has_pose);
+}
+
+TEST(LoopGeometryTest, ACameraTurnedWhereItStandsGivesItsRotationAndNoDirection) {
+  const CameraIntrinsics k{500, 500, 320, 240};
+  cv::Matx33d r;
+  cv::Rodrigues(cv::Vec3d(3 * CV_PI / 180, -4 * CV_PI / 180, 8 * CV_PI / 180), r);
+  const TwoViews views = Project(r, cv::Vec3d(0, 0, 0), k, 60);  // no baseline
+  VerificationOptions verification;
+  verification.ransac_pixels = 1;
+  const LoopGeometry geometry = EstimateLoopGeometry(views.query, views.match, k, verification);
+  ASSERT_TRUE(geometry.has_pose);
+  EXPECT_FALSE(geometry.translation_known);
+  EXPECT_EQ(geometry.translation, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_GE(geometry.pose_inliers, 58);
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(geometry.rotation[i], r(i / 3, i % 3), 1e-3) << i;
 }
 
 TEST(LoopGeometryTest, FewerThanEightSharedWordsGiveNoGeometry) {

@@ -39,8 +39,8 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
       const Location match_location = *database.ReadLocation(match->second);
       exported.geometry = EstimateLoopGeometry(query_location.signature, match_location.signature,
                                                intrinsics, options.verification);
-      exported.geometry.query_view = query_location.images.front();
-      exported.geometry.match_view = match_location.images.front();
+      exported.geometry.query_view = ViewOf(query_location);
+      exported.geometry.match_view = ViewOf(match_location);
     }
     loops.push_back(std::move(exported));
   }

@@ -332,6 +332,7 @@ void LtmDatabase::WriteLocation(const Location& location) {
         .Bind(3, static_cast<long long>(location.images[rank]))
         .Run();
   }
+  WriteView(location);
   auto& word = Cached(
       "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
       " octave) VALUES(?,?,?,?,?,?,?,?,?)");
@@ -375,7 +376,8 @@ void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
        {"DELETE FROM links WHERE to_id=? OR from_id=?1", "DELETE FROM locations WHERE id=?",
         "DELETE FROM location_images WHERE location_id=?",
         "DELETE FROM signature_words WHERE location_id=?",
-        "DELETE FROM appearances WHERE location_id=?"}) {
+        "DELETE FROM appearances WHERE location_id=?",
+        "DELETE FROM location_views WHERE location_id=?"}) {
     Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
   }
   // A survivor linked to itself through the redirection keeps no such link.
@@ -567,6 +569,7 @@ std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
         static_cast<float>(words.Double(5)), static_cast<int>(words.Int(6)));
   }
   words.Reset();
+  location.signature.image = ReadView(id);
   return location;
 }
 

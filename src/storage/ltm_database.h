@@ -96,6 +96,9 @@ class LtmDatabase {
   void WriteImage(const MapImage& image);
   std::vector<MapImage> ReadImages();
   std::vector<MapSession> ReadSessions();
+  // The image of a location's signature (Signature::image), kNoImage when not recorded.
+  void WriteView(const Location& location);
+  ImageIndex ReadView(LocationId id);
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
@@ -138,6 +141,7 @@ class LtmDatabase {
   int format_version_;  // before connection_: the file is checked before it is opened to write
   SqliteConnection connection_;
   std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
+  std::optional<bool> has_views_;  // the location_views table, once looked for
 };
 
 }  // namespace memloop

@@ -9,7 +9,31 @@ void LtmDatabase::CreateImageTable() {
   connection_.Execute(
       "CREATE TABLE IF NOT EXISTS images(image INTEGER PRIMARY KEY, session INTEGER NOT NULL,"
       " name TEXT NOT NULL, stamp REAL);"
-      "CREATE INDEX IF NOT EXISTS images_session ON images(session, image);");
+      "CREATE INDEX IF NOT EXISTS images_session ON images(session, image);"
+      "CREATE TABLE IF NOT EXISTS location_views(location_id INTEGER PRIMARY KEY,"
+      " image INTEGER NOT NULL);");
+}
+
+void LtmDatabase::WriteView(const Location& location) {
+  auto& statement = Cached(
+      location.signature.image == kNoImage
+          ? "DELETE FROM location_views WHERE location_id=?"
+          : "INSERT OR REPLACE INTO location_views(location_id, image) VALUES(?,?)");
+  statement.Bind(1, static_cast<long long>(location.id));
+  if (location.signature.image != kNoImage) {
+    statement.Bind(2, static_cast<long long>(location.signature.image));
+  }
+  statement.Run();
+}
+
+ImageIndex LtmDatabase::ReadView(LocationId id) {
+  if (!has_views_) has_views_ = HasTable("location_views");
+  if (!*has_views_) return kNoImage;
+  auto& query = Cached("SELECT image FROM location_views WHERE location_id=?");
+  query.Bind(1, static_cast<long long>(id));
+  const ImageIndex image = query.Step() ? static_cast<ImageIndex>(query.Int(0)) : kNoImage;
+  query.Reset();
+  return image;
 }
 
 void LtmDatabase::WriteImage(const MapImage& image) {

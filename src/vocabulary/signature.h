@@ -15,6 +15,9 @@ struct Features;
 struct Signature {
   std::vector<WordId> words;            // one per keypoint; a word may repeat
   std::vector<cv::KeyPoint> keypoints;  // same order as words
+  // The image these keypoints were seen in (it follows the signature when Rehearsal gives it to
+  // a newer location); kNoImage when unknown (a map made before memloop recorded it).
+  ImageIndex image = kNoImage;
 
   int size() const { return static_cast<int>(words.size()); }
   // (word, occurrences), sorted by word.

@@ -108,9 +108,11 @@ def test_a_second_session_with_names_and_time_stamps(route, tmp_path):
             geometry = result.loop_closure_geometry
             if geometry.has_pose:
                 posed += 1
-                assert abs(sum(t * t for t in geometry.translation) - 1) < 1e-6
+                norm = sum(t * t for t in geometry.translation)
+                assert abs(norm - 1) < 1e-6 if geometry.translation_known else norm == 0
                 assert len(geometry.inliers) >= geometry.pose_inliers
-                assert geometry.query_view == index
+                # The image whose keypoints the location holds: this one, or one Rehearsal merged.
+                assert 110 <= geometry.query_view <= index
     assert across >= 40  # of 80
     assert posed > 0
     images = memloop.read_map_images(map_path)

@@ -36,7 +36,8 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
     if (g.has_pose) {
       pose = {{"rotation", g.rotation},
               {"quaternion_xyzw", g.quaternion},
-              {"translation_direction", g.translation},
+              {"translation_direction",
+               g.translation_known ? nlohmann::json(g.translation) : nlohmann::json(nullptr)},
               {"inliers", g.pose_inliers}};
     }
     rows.push_back({{"query", ImageJson(loop.query, loop.loop.query_location)},
