@@ -16,6 +16,7 @@
 #include "memloop/synthetic_route.h"
 #include "route_images_test.h"
 #include "short_route.h"
+#include "storage/ltm_database.h"
 #include "temp_dir.h"
 
 namespace memloop {
@@ -138,7 +139,9 @@ TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
   const std::string damaged = copy("damaged.db", scrambled);
   const std::string truncated = copy("truncated.db", bytes.substr(0, bytes.size() / 2));
   const std::string newer = copy("newer.db", bytes);
-  Edit(newer, "PRAGMA user_version=5; UPDATE info SET value='5' WHERE key='format_version'");
+  const std::string next = std::to_string(LtmDatabase::kFormatVersion + 1);
+  Edit(newer, "PRAGMA user_version=" + next + "; UPDATE info SET value='" + next +
+                  "' WHERE key='format_version'");
   const std::string checkpoint = copy("checkpoint.db", bytes);
   Edit(checkpoint, "UPDATE resume_state SET value=x'0102' WHERE key='counters'");
 
@@ -157,7 +160,9 @@ TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
   for (const std::string& use :
        {run + " --db " + newer + " --resume",
         run + " --db " + newer + " --set memory.localization=1", "inspect " + newer}) {
-    ExpectRefusedUntouched(use, 1, newer + ": map format 5 is newer than this memloop's (4)");
+    ExpectRefusedUntouched(use, 1,
+                           newer + ": map format " + next + " is newer than this memloop's (" +
+                           std::to_string(LtmDatabase::kFormatVersion) + ")");
   }
   ExpectRefusedUntouched(run + " --db " + checkpoint + " --resume", 1,
                          checkpoint + ": cannot resume: the map is damaged (");

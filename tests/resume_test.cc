@@ -176,6 +176,46 @@ TEST(ResumeRefusalTest, MapOfAnOlderFormatIsRefusedUntouched) {
   EXPECT_EQ(FileBytes(path), before);
 }
 
+// A map of format 4 (before images and location views were recorded) resumes, and is format 5
+// once its first checkpoint is written.
+TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  const SyntheticRoute route(testing::ShortRoute());
+  {
+    Detector detector(WithBudget(20), path);
+    for (int i = 0; i < 30; ++i) detector.Process(route.Render(i), i);
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "UPDATE memory_locations SET data = substr(data, 1, length(data) - 4);"
+                         "DROP TABLE images; DROP TABLE location_views;"
+                         "UPDATE info SET value='4' WHERE key='format_version';"
+                         "PRAGMA user_version=4;",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  ASSERT_EQ(InspectMap(path).format_version, 4);
+  {
+    Detector resumed(WithBudget(20), path, MapMode::kResume);
+    EXPECT_EQ(resumed.last_image(), 29);
+    EXPECT_EQ(resumed.session_first_image(), 0);
+    for (int i = 30; i < 40; ++i) resumed.Process(route.Render(i), i);
+    EXPECT_TRUE(resumed.CheckConsistency().empty());
+  }
+  const MapInfo info = InspectMap(path);
+  EXPECT_EQ(info.format_version, 5);
+  EXPECT_EQ(info.integrity, "ok");
+  ASSERT_EQ(info.sessions.size(), 1u);  // the images recorded since
+  EXPECT_EQ(info.sessions[0].first_image, 30);
+  {
+    Detector again(WithBudget(20), path, MapMode::kResume);
+    EXPECT_EQ(again.session_first_image(), 0);  // the first session starts at image 0
+    EXPECT_EQ(again.last_image(), 39);
+  }
+}
+
 // kill -9 of the memloop tool at random moments.
 std::string IntegrityCheck(const std::string& path) {
   sqlite3* db = nullptr;

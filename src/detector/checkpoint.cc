@@ -396,7 +396,7 @@ ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> for
 }  // namespace
 
 ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) {
-  if (database.format_version() < LtmDatabase::kFormatVersion) {
+  if (database.format_version() < LtmDatabase::kOldestResumable) {
     throw DatabaseError(database.path(),
                         "this map was made by an older memloop (map format " +
                             std::to_string(database.format_version()) +
@@ -432,7 +432,7 @@ std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database) {
 }
 
 std::string CheckpointProblem(LtmDatabase& database) {
-  if (database.format_version() < LtmDatabase::kFormatVersion) return "";  // not resumable anyway
+  if (database.format_version() < LtmDatabase::kOldestResumable) return "";  // not resumable anyway
   if (!database.ReadState(kCounters)) return "";
   try {
     ReadState(database, std::nullopt);

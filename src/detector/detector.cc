@@ -320,7 +320,9 @@ class Detector::Impl {
       return;
     }
     session_ = sessions.back().id;
-    session_first_image_ = sessions.back().first_image;
+    // The first session starts at image 0, whatever it recorded (a map upgraded from format 4
+    // records its images from the upgrade on).
+    session_first_image_ = session_ == 0 ? 0 : sessions.back().first_image;
     earlier_sessions_last_image_ =
         sessions.size() > 1 ? sessions[sessions.size() - 2].last_image : kNoImage;
   }

@@ -424,6 +424,11 @@ size_t CheckpointData::bytes() const {
 }
 
 void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
+  if (format_version_ < kFormatVersion) {  // its checkpoint is now this format's
+    connection_.Execute("PRAGMA user_version=" + std::to_string(kFormatVersion));
+    WriteInfo(kFormatKey, std::to_string(kFormatVersion));
+    format_version_ = kFormatVersion;
+  }
   if (checkpoint.full) Cached("DELETE FROM memory_locations").Run();
   if (checkpoint.full) Cached("DELETE FROM index_descriptors").Run();
   if (checkpoint.full) Cached("DELETE FROM resume_state").Run();

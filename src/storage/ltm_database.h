@@ -51,7 +51,11 @@ class LtmDatabase {
   // 3: index points as chunks of word ids (index_chunks); each word's descriptor once
   // (index_descriptors). 4: LTM's marks on the dictionary's words as bitmaps by chunks of word
   // ids (resume_state keys ltm_marks.N), only changed chunks written at each checkpoint.
-  static constexpr int kFormatVersion = 4;
+  // 5: the images (name, time stamp, session) and each location's view image (location_views,
+  // and at the end of a checkpoint's location). A format-4 map is resumed and becomes format 5
+  // with its first checkpoint written.
+  static constexpr int kFormatVersion = 5;
+  static constexpr int kOldestResumable = 4;
 
   enum class Mode {
     kCreate,  // a new map: the file must be absent or empty

@@ -105,24 +105,27 @@ void CheckInputContinues(const ImageSequence& sequence, const MapProgress& progr
                          const std::string& database_path, const std::string& input) {
   const MapSession& session = progress.last_session;
   if (session.id < 0) return;
-  const int held = session.last_image - session.first_image + 1;
+  // The input's frame 0 is the session's first image: a later session's first recorded one, the
+  // map's image 0 for the first session (a map upgraded from format 4 records images from later).
+  const ImageIndex start = session.id == 0 ? 0 : session.first_image;
+  const int held = session.last_image - start + 1;
   const std::string label = input.empty() ? "the input" : input;
   if (sequence.size() >= 0 && sequence.size() < held) {
-    throw InputError(label, fmt::format("holds {} images, where the map {} holds {} of it (images "
-                                        "{} to {}): not the input the map was made from",
-                                        sequence.size(), database_path, held, session.first_image,
-                                        session.last_image));
+    throw InputError(label,
+                     fmt::format("holds {} images, where the map {} holds {} of it (images "
+                                 "{} to {}): not the input the map was made from",
+                                 sequence.size(), database_path, held, start, session.last_image));
   }
-  const std::string first = sequence.NameOf(0);
+  const std::string first = sequence.NameOf(session.first_image - start);
   const std::string last = sequence.NameOf(held - 1);
   if (first.empty() || session.first_name.empty()) return;
   if (first != session.first_name || last != session.last_name) {
     throw InputError(
         label, fmt::format("does not continue the map {}: its session {} began with '{}' and "
-                           "holds up to '{}', where this input's images 1 and {} are '{}' and "
+                           "holds up to '{}', where this input's images {} and {} are '{}' and "
                            "'{}' (give the input it was made from, or use --new-session)",
-                           database_path, session.id, session.first_name, session.last_name, held,
-                           first, last));
+                           database_path, session.id, session.first_name, session.last_name,
+                           session.first_image - start + 1, first, last));
   }
 }
 
