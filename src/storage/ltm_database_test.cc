@@ -172,7 +172,9 @@ TEST_F(RefusedDatabaseTest, DamagedHeaderIsNotANewerFormat) {
     SqliteConnection raw(path, SQLITE_OPEN_READWRITE);
     raw.Execute("PRAGMA user_version=2131899478;");
   }
-  ExpectRefused(path, "header is damaged (format version 2131899478 in the header, 4 in the map)",
+  ExpectRefused(path,
+                "header is damaged (format version 2131899478 in the header, " +
+                    std::to_string(LtmDatabase::kFormatVersion) + " in the map)",
                 LtmDatabase::Mode::kOpen);
 }
 

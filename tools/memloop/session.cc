@@ -125,7 +125,7 @@ void CheckInputContinues(const ImageSequence& sequence, const MapProgress& progr
                            "holds up to '{}', where this input's images {} and {} are '{}' and "
                            "'{}' (give the input it was made from, or use --new-session)",
                            database_path, session.id, session.first_name, session.last_name,
-                           session.first_image - start + 1, first, last));
+                           session.first_image - start + 1, held, first, last));
   }
 }
 
