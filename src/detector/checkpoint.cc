@@ -419,6 +419,24 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) 
   }
 }
 
+DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
+                                   MapEditor& editor) {
+  ResumeState state = ReadCheckpoint(database, memory.dictionary());
+  try {
+    memory.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
+                               state.next_word_id);
+    memory.Reload(std::move(state.locations), state.stm, state.next_location_id);
+  } catch (const DatabaseError&) {
+    throw;
+  } catch (const Error& error) {
+    throw DatabaseError(database.path(),
+                        std::string("cannot resume: the map is damaged (") + error.what() + ")");
+  }
+  filter.Reload(std::move(state.posterior), state.virtual_place);
+  editor.SetPastMatches(std::move(state.past_matches));
+  return state.counters;
+}
+
 std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database) {
   const std::optional<std::vector<unsigned char>> bytes = database.ReadState(kCounters);
   if (!bytes) return std::nullopt;

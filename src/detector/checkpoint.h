@@ -70,6 +70,12 @@ class CheckpointWriter {
 // naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged.
 ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
 
+// Reads the checkpoint into `memory` (its dictionary included), `filter` and `editor`'s past
+// matches, and returns its counters. Throws DatabaseError naming the file when the checkpoint
+// cannot be read or does not fit together.
+DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
+                                   MapEditor& editor);
+
 // The counters of the map's last checkpoint alone (no dictionary needed); none when it holds no
 // checkpoint. Throws DatabaseError naming the file when they are damaged.
 std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database);

@@ -1,12 +1,12 @@
 #include "memloop/detector.h"
 
-#include <opencv2/imgproc.hpp>
 #include <set>
 
 #include "detector/appearance_retrieval.h"
 #include "detector/bayes_filter.h"
 #include "detector/checkpoint.h"
 #include "detector/consistency.h"
+#include "detector/detector_setup.h"
 #include "detector/epipolar_check.h"
 #include "detector/hypothesis.h"
 #include "detector/likelihood.h"
@@ -17,6 +17,7 @@
 #include "detector/neighbourhood_cache.h"
 #include "detector/rehearsal.h"
 #include "detector/retrieval.h"
+#include "detector/session_numbering.h"
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
 #include "detector/view_roll.h"
@@ -29,68 +30,6 @@
 #include "vocabulary/appearance_index.h"
 
 namespace memloop {
-namespace {
-
-cv::Mat ToGray(const cv::Mat& image) {
-  if (image.empty()) throw InputError("image", "empty image");
-  if (image.depth() != CV_8U) throw InputError("image", "not an 8-bit image");
-  cv::Mat gray;
-  switch (image.channels()) {
-    case 1:
-      return image;
-    case 3:
-      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-      return gray;
-    case 4:
-      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
-      return gray;
-    default:
-      throw InputError("image", "unsupported number of channels");
-  }
-}
-
-const Options& Validated(const Options& options) {
-  ValidateOptions(options);
-  return options;
-}
-
-// WM never holds more than its budget: a larger T_minHyp would refuse every loop closure.
-FilterOptions SelectionOptions(const Options& options) {
-  FilterOptions selection = options.filter;
-  if (options.memory.max_wm_locations > 0) {
-    selection.min_hypotheses = std::min(selection.min_hypotheses, options.memory.max_wm_locations);
-  }
-  return selection;
-}
-
-// With T_time on, runs depend on the machine anyway: a forest rebuilt in the background is used as
-// soon as it is ready, never waited for. With T_time off it is used at a fixed insertion count.
-DictionaryOptions DictionaryOptionsOf(const Options& options) {
-  DictionaryOptions dictionary = options.dictionary;
-  dictionary.rebuild_swap_when_ready = options.memory.time_limit_ms > 0;
-  return dictionary;
-}
-
-// Under T_time, retrieval's reads of the map file are made ahead by a thread of their own
-// (ltm_read_ahead.h); with T_time off every read is waited for, as a repeatable run needs.
-std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const LongTermMemory& ltm) {
-  const MemoryOptions& memory = options.memory;
-  if (memory.time_limit_ms <= 0 || !memory.retrieval_within_time || !memory.retrieval_read_ahead) {
-    return nullptr;
-  }
-  return std::make_unique<LtmReadAhead>(ltm);
-}
-
-std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
-                                                     const FeatureExtractor& extractor) {
-  if (!options.memory.appearance_retrieval) return nullptr;
-  return std::make_unique<AppearanceIndex>(extractor.Kind(), extractor.DescriptorDim(),
-                                           options.memory.appearance_vocabulary, options.dictionary,
-                                           options.memory.appearance_max_postings);
-}
-
-}  // namespace
-
 class Detector::Impl {
  public:
   Impl(const Options& options, const std::string& database_path, MapMode mode)
@@ -132,12 +71,7 @@ class Detector::Impl {
     if (failed_) throw Error("Detector::Process called after a failed iteration");
     ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
-    if (info.index != kNoImage && info.index <= earlier_sessions_last_image_) {
-      throw InputError("image " + std::to_string(info.index),
-                       "a new session's images come after the earlier sessions' (the last is "
-                       "image " +
-                           std::to_string(earlier_sessions_last_image_) + ")");
-    }
+    sessions_.CheckImage(info.index);
     try {
       return localizing_ ? Localize(gray, info) : Iterate(gray, info);
     } catch (...) {
@@ -152,10 +86,8 @@ class Detector::Impl {
   }
   ImageIndex last_image() const { return counters_.last_image; }
   long long images_processed() const { return counters_.images_processed; }
-  int session() const { return session_; }
-  ImageIndex session_first_image() const {
-    return session_first_image_ != kNoImage ? session_first_image_ : counters_.last_image + 1;
-  }
+  int session() const { return sessions_.id(); }
+  ImageIndex session_first_image() const { return sessions_.first_image(counters_.last_image + 1); }
   void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
   std::vector<std::string> CheckConsistency() {
     std::vector<std::string> problems = memloop::CheckConsistency(
@@ -196,7 +128,7 @@ class Detector::Impl {
   // at the start of the next one (StartIteration): see Detector::Process.
   Result Iterate(const cv::Mat& gray, const ImageInfo& info) {
     Result result = StartIteration(info);
-    ltm_.RecordImage({result.image_index, session_, info.name, info.timestamp});
+    ltm_.RecordImage({result.image_index, sessions_.id(), info.name, info.timestamp});
     const Stopwatch& iteration = iteration_;
     const LocationId t = CreateLocation(gray, result);      // III-A
     Rehearse(t, result);                                    // III-B, eq. 1
@@ -240,8 +172,8 @@ class Detector::Impl {
     result.processed = true;
     result.image_index = info.index == kNoImage ? counters_.last_image + 1 : info.index;
     result.timestamp = info.timestamp;
-    result.session = session_;
-    if (session_first_image_ == kNoImage) session_first_image_ = result.image_index;
+    result.session = sessions_.id();
+    sessions_.Record(result.image_index);
     ++counters_.images_processed;
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
@@ -273,9 +205,7 @@ class Detector::Impl {
     filter_.Forget();
     counters_.newest_location = kNoLocation;
     previous_hypothesis_value_ = 0;
-    earlier_sessions_last_image_ = counters_.last_image;
-    session_first_image_ = kNoImage;
-    ++session_;
+    sessions_.StartNew(counters_.last_image);
   }
 
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
@@ -284,23 +214,10 @@ class Detector::Impl {
     // ltm_ checked the file
     LtmDatabase database(path, localizing_ ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kAttach);
     CheckMapParameters(database, options_);
-    ResumeState state = ReadCheckpoint(database, memory_.dictionary());
-    try {
-      memory_.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
-                                  state.next_word_id);
-      memory_.Reload(std::move(state.locations), state.stm, state.next_location_id);
-    } catch (const DatabaseError&) {
-      throw;
-    } catch (const Error& error) {
-      throw DatabaseError(path,
-                          std::string("cannot resume: the map is damaged (") + error.what() + ")");
-    }
+    counters_ = RestoreCheckpoint(database, memory_, filter_, editor_);
     for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
     if (appearance_) ReloadAppearance(database, memory_, ltm_, *appearance_);
-    filter_.Reload(std::move(state.posterior), state.virtual_place);
-    editor_.SetPastMatches(std::move(state.past_matches));
-    counters_ = state.counters;
-    ResumeSession(database.ReadSessions());
+    sessions_.Resume(database.ReadSessions(), counters_.last_image);
     const std::vector<std::string> problems = CheckConsistency();
     if (!problems.empty()) {
       throw DatabaseError(
@@ -309,22 +226,6 @@ class Detector::Impl {
                          ? ", and " + std::to_string(problems.size() - 1) + " more problems)"
                          : ")"));
     }
-  }
-
-  // A resumed map goes on in its last session. A map made before images were recorded is one
-  // session (0) from image 0.
-  void ResumeSession(const std::vector<MapSession>& sessions) {
-    if (sessions.empty()) {
-      session_ = 0;
-      session_first_image_ = counters_.last_image == kNoImage ? kNoImage : 0;
-      return;
-    }
-    session_ = sessions.back().id;
-    // The first session starts at image 0, whatever it recorded (a map upgraded from format 4
-    // records its images from the upgrade on).
-    session_first_image_ = session_ == 0 ? 0 : sessions.back().first_image;
-    earlier_sessions_last_image_ =
-        sessions.size() > 1 ? sessions[sessions.size() - 2].last_image : kNoImage;
   }
 
   // The previous image's checkpoint, when memory.checkpoint_interval makes one due. With T_time
@@ -664,9 +565,7 @@ class Detector::Impl {
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
   bool closed_ = false;
-  int session_ = 0;                            // the session new images join
-  ImageIndex session_first_image_ = kNoImage;  // its first image, kNoImage before it has one
-  ImageIndex earlier_sessions_last_image_ = kNoImage;  // new images must come after it
+  SessionNumbering sessions_;
 };
 
 Detector::Detector(const Options& options, const std::string& database_path, MapMode mode)
