@@ -20,7 +20,6 @@
 #include "memloop/image_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "storage/long_term_memory.h"
-#include "vocabulary/appearance_index.h"
 #include "vocabulary/dictionary.h"
 
 namespace memloop {
@@ -298,43 +297,6 @@ void BM_RedirectLocation(benchmark::State& state) {
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
 }
 BENCHMARK(BM_RedirectLocation)->Arg(1000)->Arg(50000)->Unit(benchmark::kMicrosecond);
-
-// Retrieval by appearance's search over N LTM locations: each described by 193 distinct entries
-// of the 8,192-entry vocabulary, drawn with a mild skew (log-normal weights, sigma 0.65) so that a
-// query walks ~7 postings per location, as on bench/scale.sh's map at 26,789 locations.
-void BM_AppearanceBest(benchmark::State& state) {
-  constexpr int kVocabulary = 8192;
-  constexpr int kEntries = 193;
-  AppearanceIndex index(DescriptorKind::kFloat, 64, kVocabulary, DictionaryOptions());
-  cv::RNG rng(11);
-  std::vector<double> cumulative(kVocabulary);
-  double total = 0;
-  for (int entry = 0; entry < kVocabulary; ++entry) {
-    total += std::exp(0.65 * rng.gaussian(1.0));
-    cumulative[entry] = total;
-  }
-  const auto describe = [&] {
-    Appearance appearance;
-    while (static_cast<int>(appearance.size()) < kEntries) {
-      const double at = rng.uniform(0.0, total);
-      const auto entry =
-          std::lower_bound(cumulative.begin(), cumulative.end(), at) - cumulative.begin();
-      appearance.push_back(static_cast<AppearanceEntry>(entry));
-      std::sort(appearance.begin(), appearance.end());
-      appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
-    }
-    return appearance;
-  };
-  for (LocationId id = 1; id <= state.range(0); ++id) {
-    index.Add(id, describe());
-    index.Enter(id);
-  }
-  std::vector<Appearance> queries;
-  for (int i = 0; i < 16; ++i) queries.push_back(describe());
-  size_t count = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(index.Best(queries[count++ % queries.size()]));
-}
-BENCHMARK(BM_AppearanceBest)->Arg(25000)->Arg(50000)->Unit(benchmark::kMillisecond);
 
 // verify.max_roll_degrees: the view roll of the highest hypothesis, once per image, O(n^2) in the
 // words both signatures hold once (a true revisit of lip6_outdoor: a median 36, at most ~400).

@@ -155,8 +155,9 @@ struct MemoryOptions {
   double appearance_min_z = 8.0;
   // A search by appearance sums the image's rarest entries first, and stops before their
   // postings (LTM locations holding them) pass this many, so that its time stops growing with LTM
-  // (~3.7 postings per LTM location: 1 ms at 25,000). 0: every entry. Off by default: at 20,000,
-  // 50,000 images found 3.4% fewer revisit images for 0.35 ms (docs/design.md).
+  // (BM_AppearanceBest, a million locations: 0.36 ms at 40,000 with a 32,768-entry vocabulary,
+  // against 7 ms for every entry). 0: every entry. Off by default until measured on bench/scale.sh
+  // (docs/design.md, "Retrieval by appearance").
   int appearance_max_postings = 0;
   // 1: the highest hypothesis' WM neighbourhood (with the locations retrieved for it) is
   // transferred only after every other WM location (memloop); 0: by weight and age like any

@@ -70,8 +70,8 @@ class AppearanceIndex {
   // stands out. Entries held by more than half the searched locations are ignored. With
   // `max_postings`, the query's rarest entries are summed first (fewest holders, then lowest
   // entry), and no more once their postings would pass it: the search's time stops growing with
-  // LTM (it walked ~3.7 postings per LTM location, 1 ms at 25,000), and the entries left out are
-  // the most common, which tell places apart least.
+  // LTM (bench/appearance_search_benchmark.cc), and the entries left out are the most common,
+  // which tell places apart least.
   AppearanceMatch Best(const Appearance& query) const;
   // The score Best gives, or would give were it searched, the described location `id` against
   // `query` (0 when `id` is not described).
@@ -90,6 +90,11 @@ class AppearanceIndex {
   // locations than there are (Score: one that is not searched, counted as if it were).
   std::vector<std::pair<AppearanceEntry, double>> SummedEntries(const Appearance& query,
                                                                 size_t extra) const;
+  // Calls visit(id, shared weight) for each location in the postings of `summed`'s entries, in
+  // id order, its weight summed in `summed`'s order.
+  template <typename Visit>
+  void SumPostings(const std::vector<std::pair<AppearanceEntry, double>>& summed,
+                   Visit&& visit) const;
 
   DescriptorKind kind_;
   int descriptor_dim_;
@@ -104,8 +109,9 @@ class AppearanceIndex {
 
   std::unordered_map<LocationId, Appearance> appearances_;
   std::unordered_set<LocationId> searched_;
-  std::vector<std::vector<LocationId>> postings_;  // entry -> searched locations holding it
-  mutable std::vector<double> scores_;             // by location id, zero between searches
+  std::vector<std::vector<LocationId>> postings_;  // entry -> searched locations holding it, by id
+  mutable std::vector<double> block_scores_;       // SumPostings: a block of ids, zero between
+  mutable std::vector<uint64_t> touched_;          // the block's ids with a score, one bit each
   std::vector<uint32_t> sizes_;                    // by location id: its description's size
 };
 

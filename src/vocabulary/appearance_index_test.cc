@@ -150,10 +150,11 @@ TEST_F(AppearanceSearchTest, NothingToFindGivesNoLocation) {
   EXPECT_EQ(empty.Best({0}).z, 0);
 }
 
-// Best sums the postings one of two ways, by how many there are against the locations (few: the
-// touched ones noted, many: the score array walked); either must give what scoring every searched
-// location one by one gives. 2,000 locations of 20 entries out of 512: one entry's postings
-// (~80) are few, a 40-entry query's (~3,000) many.
+// Best sums the postings a block of ids at a time, in id order; whatever the postings count and
+// however the ids fall across blocks, it must give what scoring every searched location one by
+// one gives. 2,000 locations of 20 entries out of 512, ids 97 apart (seven blocks of 32,768),
+// entered in a shuffled order and some left and entered again (postings kept sorted): one
+// entry's postings (~80) are few, a 200-entry query's most of the locations.
 TEST(AppearanceIndexTest, BestIsTheBestOfEveryLocationsScoreWhateverThePostingsCount) {
   constexpr int kVocabulary = 512;
   AppearanceIndex index = MakeIndex(kVocabulary);
@@ -165,13 +166,22 @@ TEST(AppearanceIndexTest, BestIsTheBestOfEveryLocationsScoreWhateverThePostingsC
     appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
     return appearance;
   };
+  std::vector<LocationId> ids;
+  for (LocationId k = 0; k < 2000; ++k) ids.push_back(1 + 97 * k);
+  for (int i = static_cast<int>(ids.size()) - 1; i > 0; --i) {
+    std::swap(ids[i], ids[rng.uniform(0, i + 1)]);
+  }
   std::vector<LocationId> searched;
-  for (LocationId id = 1; id <= 2000; ++id) {
+  for (LocationId id : ids) {
     index.Add(id, describe(20));
     if (id % 7 != 0) {  // some described but not searched: they must not answer
       index.Enter(id);
       searched.push_back(id);
     }
+  }
+  for (size_t i = 0; i < searched.size(); i += 5) {
+    index.Leave(searched[i]);
+    index.Enter(searched[i]);
   }
   for (int entries : {1, 2, 40, 200}) {
     const Appearance query = describe(entries);

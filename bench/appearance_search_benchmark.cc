@@ -1,0 +1,143 @@
+// Retrieval by appearance over LTM as it grows to a million locations (issue 39): the search
+// (AppearanceIndex::Best, exhaustive or bounded by memory.appearance_max_postings) and the
+// index's upkeep when a location is retrieved and transferred again (Leave, Enter).
+//
+// A synthetic LTM: each location described by 193 distinct entries of the vocabulary (the median
+// of bench/scale.sh's images), drawn with a mild skew (log-normal weights, sigma 0.65) so that,
+// with 8,192 entries, a query walks ~7 postings per location, as on bench/scale.sh's map at
+// 26,789 locations.
+// A revisit query keeps half of one location's entries and draws the rest anew; `found` is the
+// fraction of revisit queries whose best match is that location, `z` their median z.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <tuple>
+#include <vector>
+
+#include "vocabulary/appearance_index.h"
+
+namespace memloop {
+namespace {
+
+constexpr int kEntries = 193;
+constexpr int kQueries = 64;
+
+class SyntheticLtm {
+ public:
+  SyntheticLtm(int locations, size_t max_postings, int vocabulary)
+      : index_(DescriptorKind::kFloat, 64, vocabulary, DictionaryOptions(), max_postings),
+        rng_(11) {
+    double total = 0;
+    for (int entry = 0; entry < vocabulary; ++entry) {
+      total += std::exp(0.65 * rng_.gaussian(1.0));
+      cumulative_.push_back(total);
+    }
+    for (LocationId id = 1; id <= locations; ++id) {
+      Appearance appearance = Describe();
+      if (id <= kQueries) revisits_.push_back(Revisit(appearance));
+      index_.Add(id, std::move(appearance));
+      index_.Enter(id);
+    }
+  }
+
+  const AppearanceIndex& index() const { return index_; }
+  AppearanceIndex& index() { return index_; }
+  // Revisit i is of location i + 1.
+  const std::vector<Appearance>& revisits() const { return revisits_; }
+
+ private:
+  AppearanceEntry Draw() {
+    const double at = rng_.uniform(0.0, cumulative_.back());
+    return static_cast<AppearanceEntry>(
+        std::lower_bound(cumulative_.begin(), cumulative_.end(), at) - cumulative_.begin());
+  }
+  void TopUp(Appearance& appearance) {
+    while (static_cast<int>(appearance.size()) < kEntries) {
+      while (static_cast<int>(appearance.size()) < kEntries + 8) appearance.push_back(Draw());
+      std::sort(appearance.begin(), appearance.end());
+      appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
+    }
+    // Keep kEntries of them, not the lowest ones only.
+    for (int i = static_cast<int>(appearance.size()) - 1; i > 0; --i) {
+      std::swap(appearance[i], appearance[rng_.uniform(0, i + 1)]);
+    }
+    appearance.resize(kEntries);
+    std::sort(appearance.begin(), appearance.end());
+  }
+  Appearance Describe() {
+    Appearance appearance;
+    TopUp(appearance);
+    return appearance;
+  }
+  Appearance Revisit(const Appearance& seen) {
+    Appearance revisit;
+    for (AppearanceEntry entry : seen) {
+      if (rng_.uniform(0, 2) == 0) revisit.push_back(entry);
+    }
+    TopUp(revisit);
+    return revisit;
+  }
+
+  AppearanceIndex index_;
+  cv::RNG rng_;
+  std::vector<double> cumulative_;
+  std::vector<Appearance> revisits_;
+};
+
+// Built once per (locations, max_postings) and kept for the repetitions; one at a time (a million
+// locations hold ~2 GB).
+SyntheticLtm& LtmOf(int locations, size_t max_postings, int vocabulary) {
+  static std::tuple<int, size_t, int> key{-1, 0, 0};
+  static std::unique_ptr<SyntheticLtm> ltm;
+  if (!ltm || key != std::make_tuple(locations, max_postings, vocabulary)) {
+    ltm.reset();
+    ltm = std::make_unique<SyntheticLtm>(locations, max_postings, vocabulary);
+    key = {locations, max_postings, vocabulary};
+  }
+  return *ltm;
+}
+
+// Args: LTM locations, memory.appearance_max_postings (0 = every entry),
+// memory.appearance_vocabulary.
+void BM_AppearanceBest(benchmark::State& state) {
+  SyntheticLtm& ltm = LtmOf(static_cast<int>(state.range(0)), static_cast<size_t>(state.range(1)),
+                            static_cast<int>(state.range(2)));
+  const std::vector<Appearance>& queries = ltm.revisits();
+  size_t count = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(ltm.index().Best(queries[count++ % kQueries]));
+  int found = 0;
+  std::vector<double> z;
+  for (int i = 0; i < kQueries; ++i) {
+    const AppearanceMatch match = ltm.index().Best(queries[i]);
+    found += match.id == i + 1;
+    z.push_back(match.z);
+  }
+  std::nth_element(z.begin(), z.begin() + kQueries / 2, z.end());
+  state.counters["found"] = static_cast<double>(found) / kQueries;
+  state.counters["z"] = z[kQueries / 2];
+}
+BENCHMARK(BM_AppearanceBest)
+    ->ArgsProduct({{1000, 10000, 25000, 100000, 1000000}, {0, 40000}, {8192, 32768}})
+    ->Unit(benchmark::kMillisecond);
+
+// A location retrieved from LTM (Leave) and transferred back (Enter), as retrieval and transfer
+// do to the index every few images.
+void BM_AppearanceLeaveEnter(benchmark::State& state) {
+  const int locations = static_cast<int>(state.range(0));
+  SyntheticLtm& ltm = LtmOf(locations, 0, static_cast<int>(state.range(1)));
+  cv::RNG rng(5);
+  for (auto _ : state) {
+    const LocationId id = rng.uniform(1, locations + 1);
+    ltm.index().Leave(id);
+    ltm.index().Enter(id);
+  }
+}
+BENCHMARK(BM_AppearanceLeaveEnter)
+    ->ArgsProduct({{1000, 25000, 1000000}, {8192, 32768}})
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace memloop
