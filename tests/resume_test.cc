@@ -279,15 +279,16 @@ TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
     const bool completed = WIFEXITED(status) && WEXITSTATUS(status) == 0;
     ASSERT_TRUE(completed || (k < kill_rows.size() && WIFSIGNALED(status))) << ReadFile(log);
     if (k > 0) {
-      // The documented bound: with memory.checkpoint_interval=1, at most 2 images are lost (and
-      // processed again) by a kill.
+      // The documented bound: with memory.checkpoint_interval=1, at most 2 images whose rows
+      // were written are processed again: the kill may come while the image after them waits
+      // for the older one's checkpoint to commit (CI, loaded: 40 rows, resumed after image 37).
       // A run killed as it starts may not have said where it resumes.
       const std::string output = ReadFile(log);
       const size_t at = output.find("after image ");
       ASSERT_TRUE(at != std::string::npos || k < kill_rows.size()) << output;
       if (at != std::string::npos) {
         const int resumed_after = std::stoi(output.substr(at + 12));
-        EXPECT_GE(resumed_after + 1, rows_at_kill - 1) << "rows before the kill: " << rows_at_kill;
+        EXPECT_GE(resumed_after + 1, rows_at_kill - 2) << "rows before the kill: " << rows_at_kill;
         EXPECT_LE(resumed_after + 1, rows_at_kill + 1);
       }
     }
