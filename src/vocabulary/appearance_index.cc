@@ -16,7 +16,9 @@ AppearanceIndex::AppearanceIndex(DescriptorKind kind, int descriptor_dim, int vo
       vocabulary_size_(vocabulary_size),
       index_options_(index_options),
       max_postings_(max_postings),
-      postings_(static_cast<size_t>(std::max(vocabulary_size, 0))) {
+      postings_(static_cast<size_t>(std::max(vocabulary_size, 0))),
+      holders_(postings_.size(), 0),
+      compacted_at_(postings_.size(), 0) {
   index_options_.rebuild_delay = 0;  // built once, when frozen, in the calling thread
   // A coarse quantizer: one tree and few checks cost a third of the dictionary's search, and a
   // near-nearest entry describes a place as well.
@@ -58,7 +60,13 @@ void AppearanceIndex::Reload(const std::vector<WordId>& words, const cv::Mat& ro
   entry_of_word_.clear();
   frozen_ = false;
   search_.reset();
-  for (LocationId id : std::vector<LocationId>(searched_.begin(), searched_.end())) Leave(id);
+  for (std::vector<LocationId>& posting : postings_) posting.clear();
+  std::fill(holders_.begin(), holders_.end(), 0);
+  searched_bits_.clear();
+  searched_count_ = 0;
+  leaves_ = 0;
+  left_at_.clear();
+  std::fill(compacted_at_.begin(), compacted_at_.end(), 0);
   appearances_.clear();
   if (CollectWords(words, rows) != rows.rows)
     throw Error("the appearance vocabulary repeats a word");
@@ -92,13 +100,43 @@ void AppearanceIndex::Add(LocationId id, Appearance appearance) {
   }
   const bool searched = Searched(id);
   if (searched) Leave(id);
+  Purge(id);
   appearances_[id] = std::move(appearance);
   if (searched) Enter(id);
 }
 
 void AppearanceIndex::Erase(LocationId id) {
   Leave(id);
+  Purge(id);
   appearances_.erase(id);
+}
+
+bool AppearanceIndex::Tombstone(LocationId id, AppearanceEntry entry) const {
+  const auto slot = static_cast<size_t>(id);
+  const uint64_t left = slot < left_at_.size() ? left_at_[slot] : 0;
+  return left > 0 && compacted_at_[entry] < left;
+}
+
+void AppearanceIndex::Purge(LocationId id) {
+  const Appearance* appearance = Find(id);
+  if (appearance == nullptr || Searched(id)) return;
+  for (AppearanceEntry entry : *appearance) {
+    if (!Tombstone(id, entry)) continue;
+    std::vector<LocationId>& posting = postings_[entry];
+    posting.erase(std::lower_bound(posting.begin(), posting.end(), id));
+  }
+  if (static_cast<size_t>(id) < left_at_.size()) left_at_[static_cast<size_t>(id)] = 0;
+}
+
+void AppearanceIndex::SetSearched(LocationId id, bool searched) {
+  const auto slot = static_cast<size_t>(id);
+  if (slot / 64 >= searched_bits_.size()) {
+    searched_bits_.resize(std::max(slot / 64 + 1, 2 * searched_bits_.size()), 0);
+  }
+  const uint64_t bit = uint64_t{1} << (slot % 64);
+  searched_bits_[slot / 64] = searched ? searched_bits_[slot / 64] | bit
+                                       : searched_bits_[slot / 64] & ~bit;
+  searched_count_ = searched ? searched_count_ + 1 : searched_count_ - 1;
 }
 
 const Appearance* AppearanceIndex::Find(LocationId id) const {
@@ -108,8 +146,10 @@ const Appearance* AppearanceIndex::Find(LocationId id) const {
 
 void AppearanceIndex::Enter(LocationId id) {
   const Appearance* appearance = Find(id);
-  if (appearance == nullptr || !searched_.insert(id).second) return;
+  if (appearance == nullptr || Searched(id)) return;
   for (AppearanceEntry entry : *appearance) {
+    ++holders_[entry];
+    if (Tombstone(id, entry)) continue;  // it revives, in place
     std::vector<LocationId>& posting = postings_[entry];
     if (posting.empty() || posting.back() < id) {
       posting.push_back(id);  // a location's first transfer: the newest id
@@ -117,6 +157,7 @@ void AppearanceIndex::Enter(LocationId id) {
       posting.insert(std::lower_bound(posting.begin(), posting.end(), id), id);
     }
   }
+  SetSearched(id, true);
   const auto slot = static_cast<size_t>(id);
   if (slot >= sizes_.size()) {
     sizes_.resize(std::max(slot + 1, 2 * sizes_.size()), 0);
@@ -125,10 +166,22 @@ void AppearanceIndex::Enter(LocationId id) {
 }
 
 void AppearanceIndex::Leave(LocationId id) {
-  if (searched_.erase(id) == 0) return;
+  if (!Searched(id)) return;
+  SetSearched(id, false);
+  const auto slot = static_cast<size_t>(id);
+  if (slot >= left_at_.size()) left_at_.resize(std::max(slot + 1, 2 * left_at_.size()), 0);
+  left_at_[slot] = ++leaves_;
+  // A posting with more tombstones than holders (and a few to spare) is compacted: a Leave's cost
+  // is amortized over the tombstones it removes, and Best reads at most twice the live postings.
+  constexpr size_t kSpareTombstones = 8;
   for (AppearanceEntry entry : appearances_.at(id)) {
     std::vector<LocationId>& posting = postings_[entry];
-    posting.erase(std::lower_bound(posting.begin(), posting.end(), id));
+    --holders_[entry];
+    if (posting.size() < 2 * size_t{holders_[entry]} + kSpareTombstones) continue;
+    posting.erase(std::remove_if(posting.begin(), posting.end(),
+                                 [this](LocationId held) { return !Searched(held); }),
+                  posting.end());
+    compacted_at_[entry] = leaves_;
   }
 }
 
@@ -151,24 +204,25 @@ double Normalized(double shared_weight, size_t query_size, size_t location_size)
 
 std::vector<std::pair<AppearanceEntry, double>> AppearanceIndex::SummedEntries(
     const Appearance& query, size_t extra) const {
-  const double searched = static_cast<double>(searched_.size() + extra);
+  const double searched = static_cast<double>(searched_count_ + extra);
   std::vector<std::pair<AppearanceEntry, double>> summed;
   for (AppearanceEntry entry : query) {
-    const double idf = EntryWeight(postings_[entry].size() + extra, searched);
+    const double idf = EntryWeight(holders_[entry] + extra, searched);
     if (idf > 0) summed.emplace_back(entry, idf);
   }
+  // The bound counts holders, not tombstones: the same entries on a resumed map.
   size_t postings = 0;
-  for (const auto& [entry, idf] : summed) postings += postings_[entry].size();
+  for (const auto& [entry, idf] : summed) postings += holders_[entry];
   if (max_postings_ == 0 || postings <= max_postings_) return summed;
   // Rarest first (the highest idf), ties by entry: the same choice on a resumed map.
   std::sort(summed.begin(), summed.end(), [&](const auto& a, const auto& b) {
-    const size_t held_a = postings_[a.first].size(), held_b = postings_[b.first].size();
+    const size_t held_a = holders_[a.first], held_b = holders_[b.first];
     return held_a != held_b ? held_a < held_b : a.first < b.first;
   });
   postings = 0;
   size_t kept = 0;
   for (; kept < summed.size(); ++kept) {
-    postings += postings_[summed[kept].first].size();
+    postings += holders_[summed[kept].first];
     if (postings > max_postings_) break;
   }
   summed.resize(kept);
@@ -177,7 +231,7 @@ std::vector<std::pair<AppearanceEntry, double>> AppearanceIndex::SummedEntries(
 
 AppearanceMatch AppearanceIndex::Best(const Appearance& query) const {
   AppearanceMatch best;
-  const double searched = static_cast<double>(searched_.size());
+  const double searched = static_cast<double>(searched_count_);
   if (query.empty() || searched == 0) return best;
   const std::vector<std::pair<AppearanceEntry, double>> summed = SummedEntries(query, 0);
   double sum = 0, sum_squares = 0;
@@ -245,7 +299,8 @@ void AppearanceIndex::SumPostings(const std::vector<std::pair<AppearanceEntry, d
       const size_t slots = std::min(kBlockIds, sizes_.size() - base);
       for (size_t slot = 0; slot < slots; ++slot) {
         if (block_scores_[slot] == 0) continue;  // every summed entry weighs more than 0
-        visit(static_cast<LocationId>(base + slot), block_scores_[slot]);
+        const auto id = static_cast<LocationId>(base + slot);
+        if (Searched(id)) visit(id, block_scores_[slot]);  // else a tombstone's
         block_scores_[slot] = 0;
       }
       continue;
@@ -253,7 +308,8 @@ void AppearanceIndex::SumPostings(const std::vector<std::pair<AppearanceEntry, d
     for (size_t word = 0; word < touched_.size(); ++word) {
       for (uint64_t bits = touched_[word]; bits != 0; bits &= bits - 1) {
         const size_t slot = 64 * word + static_cast<size_t>(__builtin_ctzll(bits));
-        visit(static_cast<LocationId>(base + slot), block_scores_[slot]);
+        const auto id = static_cast<LocationId>(base + slot);
+        if (Searched(id)) visit(id, block_scores_[slot]);
         block_scores_[slot] = 0;
       }
       touched_[word] = 0;

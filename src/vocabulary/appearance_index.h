@@ -15,7 +15,6 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "memloop/options.h"
@@ -61,10 +60,17 @@ class AppearanceIndex {
   void Erase(LocationId id);
   const Appearance* Find(LocationId id) const;
   size_t size() const { return appearances_.size(); }
+  // Enter and Leave take O(entries of the location) amortized, whatever the number searched: a
+  // location that leaves stays in the postings as a tombstone (skipped by Best, not counted in
+  // the idf), revived if it enters again; a posting is compacted once its tombstones outnumber
+  // its holders. Answers depend only on which locations are searched, not on that history.
   void Enter(LocationId id);
   void Leave(LocationId id);
-  bool Searched(LocationId id) const { return searched_.count(id) > 0; }
-  size_t searched_size() const { return searched_.size(); }
+  bool Searched(LocationId id) const {
+    const auto slot = static_cast<size_t>(id);
+    return slot / 64 < searched_bits_.size() && ((searched_bits_[slot / 64] >> (slot % 64)) & 1);
+  }
+  size_t searched_size() const { return searched_count_; }
 
   // The searched location that scores best against `query` (ties: the oldest), and how far it
   // stands out. Entries held by more than half the searched locations are ignored. With
@@ -86,6 +92,11 @@ class AppearanceIndex {
 
  private:
   void Freeze();
+  void SetSearched(LocationId id, bool searched);
+  // Whether `id`, not searched, is still in `entry`'s posting (a tombstone).
+  bool Tombstone(LocationId id, AppearanceEntry entry) const;
+  // Removes `id`'s tombstones from the postings of its description (before it changes).
+  void Purge(LocationId id);
   // The entries of `query` Best sums (see there), with their idf over `extra` more searched
   // locations than there are (Score: one that is not searched, counted as if it were).
   std::vector<std::pair<AppearanceEntry, double>> SummedEntries(const Appearance& query,
@@ -108,8 +119,16 @@ class AppearanceIndex {
   std::unique_ptr<WordIndex> search_;  // over vocabulary_, once frozen
 
   std::unordered_map<LocationId, Appearance> appearances_;
-  std::unordered_set<LocationId> searched_;
-  std::vector<std::vector<LocationId>> postings_;  // entry -> searched locations holding it, by id
+  std::vector<uint64_t> searched_bits_;  // by location id
+  size_t searched_count_ = 0;
+  // entry -> locations holding it, by id: the searched ones and tombstones of those that left
+  std::vector<std::vector<LocationId>> postings_;
+  std::vector<uint32_t> holders_;  // entry -> searched locations holding it
+  // Where the tombstones are without a search: a location that left at Leave number t (1, 2, ...)
+  // is still in an entry's posting unless that posting was compacted at t or later. 0: in none.
+  uint64_t leaves_ = 0;
+  std::vector<uint64_t> left_at_;        // by location id
+  std::vector<uint64_t> compacted_at_;   // by entry
   mutable std::vector<double> block_scores_;       // SumPostings: a block of ids, zero between
   mutable std::vector<uint64_t> touched_;          // the block's ids with a score, one bit each
   std::vector<uint32_t> sizes_;                    // by location id: its description's size

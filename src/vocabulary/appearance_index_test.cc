@@ -212,6 +212,66 @@ TEST(AppearanceIndexTest, BestIsTheBestOfEveryLocationsScoreWhateverThePostingsC
   }
 }
 
+// Locations that leave stay in the postings as tombstones: after much coming and going (some
+// described anew or erased while out), every answer is that of an index that only ever held the
+// locations searched at the end, entered once in id order (as a resumed map enters them).
+TEST(AppearanceIndexTest, ComingAndGoingChangesNoAnswer) {
+  for (const size_t bound : {size_t{0}, size_t{300}}) {
+    SCOPED_TRACE(bound);
+    constexpr int kVocabulary = 64;
+    const auto make = [&] {
+      return AppearanceIndex(DescriptorKind::kFloat, 4, kVocabulary, DictionaryOptions{}, bound);
+    };
+    AppearanceIndex churned = make();
+    AppearanceIndex fresh = make();
+    cv::RNG rng(11);
+    const auto describe = [&] {
+      Appearance appearance;
+      for (int i = 0; i < 12; ++i) appearance.push_back(rng.uniform(0, kVocabulary));
+      std::sort(appearance.begin(), appearance.end());
+      appearance.erase(std::unique(appearance.begin(), appearance.end()), appearance.end());
+      return appearance;
+    };
+    constexpr LocationId kLocations = 400;
+    for (LocationId id = 1; id <= kLocations; ++id) {
+      churned.Add(id, describe());
+      churned.Enter(id);
+    }
+    // Most leave, few come back: the postings are compacted (tombstones outnumber holders), and
+    // locations come back to postings that were compacted after they left and to others not.
+    for (int round = 0; round < 6; ++round) {
+      for (LocationId id = 1; id <= kLocations; ++id) {
+        if (rng.uniform(0, 8) != 0) churned.Leave(id);
+      }
+      for (LocationId id = 1; id <= kLocations; ++id) {
+        if (rng.uniform(0, 8) == 0) churned.Enter(id);
+      }
+    }
+    for (LocationId id = 1; id <= kLocations; id += 9) {
+      if (!churned.Searched(id)) churned.Add(id, describe());  // described anew while out
+    }
+    for (LocationId id = 5; id <= kLocations; id += 31) churned.Erase(id);
+    for (LocationId id = 1; id <= kLocations; id += 13) churned.Enter(id);
+    for (LocationId id = 1; id <= kLocations; ++id) {
+      if (churned.Find(id) != nullptr) fresh.Add(id, *churned.Find(id));
+      if (churned.Searched(id)) fresh.Enter(id);
+    }
+    ASSERT_GT(fresh.searched_size(), 50u);
+    ASSERT_LT(fresh.searched_size(), 300u);
+    EXPECT_EQ(churned.searched_size(), fresh.searched_size());
+    for (int query = 0; query < 20; ++query) {
+      const Appearance description = describe();
+      const AppearanceMatch expected = fresh.Best(description);
+      const AppearanceMatch match = churned.Best(description);
+      ASSERT_NE(expected.id, kNoLocation);
+      EXPECT_EQ(match.id, expected.id) << query;
+      EXPECT_EQ(match.score, expected.score) << query;
+      EXPECT_EQ(match.z, expected.z) << query;
+      EXPECT_EQ(churned.Score(description, 7), fresh.Score(description, 7)) << query;
+    }
+  }
+}
+
 TEST(AppearanceIndexTest, RefusesWhatADamagedMapWouldGive) {
   AppearanceIndex index = MakeIndex(4);
   EXPECT_THROW(index.Add(1, {4}), Error);  // entry out of the vocabulary
