@@ -147,7 +147,9 @@ TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
 
   const std::string run = "run " + Images() + kSettings;
   const std::vector<std::pair<std::string, std::string>> problems = {
-      {damaged, ": the map is damaged ("}, {truncated, ": the map is truncated: 3"}};
+      {damaged, ": the map is damaged ("},
+      {truncated, ": the map is truncated: " + std::to_string(bytes.size() / 2) + " bytes of the " +
+                      std::to_string(bytes.size())}};
   for (const auto& [path, problem] : problems) {
     for (const std::string& use :
          {run + " --db " + path + " --resume",

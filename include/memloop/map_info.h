@@ -46,6 +46,7 @@ struct MapInfo {
   long long locations = 0;  // in the Long-Term Memory (all of them after Detector::Close)
   long long checkpoint_locations = 0;  // STM/WM of the last checkpoint (resume state)
   long long words = 0;                 // words stored in LTM, with descriptors
+  long long whole_images = 0;  // LTM locations with a whole-image descriptor (features.whole_image)
   long long neighbour_links = 0;
   long long loop_closure_links = 0;
   ImageIndex last_image = kNoImage;  // the last image a checkpoint holds (--resume goes on after)

@@ -40,6 +40,10 @@ struct FeatureOptions {
   // oriented SIFT and ORB match rolled views the ground truth calls different (docs/real-data.md).
   int sift_upright = 1;
   int orb_upright = 1;
+  // 1: each location also keeps a whole-image descriptor (HOG of a thumbnail, 756 bytes), which
+  // the filter weighs beside the words (filter.whole_image_gain): places seen by day are found
+  // by night (memloop, issue 34; docs/design.md, "Whole-image channel"). 0: the words alone.
+  int whole_image = 0;
 };
 
 struct DictionaryOptions {
@@ -148,17 +152,21 @@ struct MemoryOptions {
   // neighbours are retrieved (the paper, III-E).
   int appearance_retrieval = 1;
   // Entries of the fixed vocabulary that describes locations for retrieval by appearance: the
-  // dictionary's first words, copied as they are created.
-  int appearance_vocabulary = 8192;
+  // dictionary's first words, copied as they are created. 32,768 (8,192 until 2026-12-03): with
+  // appearance_max_postings, the rarest entries still tell a million places apart
+  // (bench/appearance_search_benchmark.cc: every revisit found at a million, against 31% with
+  // 8,192); complete after ~160 images.
+  int appearance_vocabulary = 32768;
   // How far (standard deviations over LTM's scores) the best LTM location must stand out to be
   // retrieved by appearance.
   double appearance_min_z = 8.0;
   // A search by appearance sums the image's rarest entries first, and stops before their
   // postings (LTM locations holding them) pass this many, so that its time stops growing with LTM
-  // (BM_AppearanceBest, a million locations: 0.36 ms at 40,000 with a 32,768-entry vocabulary,
-  // against 7 ms for every entry). 0: every entry. Off by default until measured on bench/scale.sh
-  // (docs/design.md, "Retrieval by appearance").
-  int appearance_max_postings = 0;
+  // (BM_AppearanceBest, a million locations: 0.44 ms at 40,000 with the 32,768-entry vocabulary,
+  // 1.6x its time at 25,000, against 8.4 ms for every entry; bench/scale.sh's 50,000 images:
+  // median 1.17x from images 1,000-2,000 to the last 1,000, revisits 75.8%, docs/scale.md).
+  // 0: every entry (memloop until 2026-12-03).
+  int appearance_max_postings = 40000;
   // 1: the highest hypothesis' WM neighbourhood (with the locations retrieved for it) is
   // transferred only after every other WM location (memloop); 0: by weight and age like any
   // other (the paper).
@@ -221,6 +229,19 @@ struct FilterOptions {
   // 1: a hypothesis is not accepted while a location linked to it is in LTM (deferred for T_time,
   // or transferred) and looks more like the image than it does (memloop); 0: the paper.
   int ltm_neighbour_check = 1;
+  // The whole-image channel's likelihood (features.whole_image): a WM location whose descriptor
+  // scores z standard deviations above WM's mean gets exp(gain * (z - min_z)) when z > min_z,
+  // else 1, multiplied into eq. 3; the virtual place gets the mean of those over WM, multiplied
+  // into eq. 4. 0: the channel is kept but not weighed.
+  double whole_image_gain = 2.5;
+  double whole_image_min_z = 0.5;
+  // With the channel, a hypothesis whose z there reaches this is supported by the image without
+  // require_support's and min_shared_words' word evidence, which night images lack (0: never).
+  double whole_image_support_z = 1.5;
+  // With the channel, a loop closure is accepted only when the channel's best WM location (z at
+  // least whole_image_support_z) lay within neighbour_range links of it in each of the last this
+  // many images, not all one location (whole_image_agreement.h; 0: no check).
+  int whole_image_agreement = 2;
 };
 
 // Geometric verification of the highest hypothesis (epipolar_check.h): a loop closure is accepted
@@ -262,9 +283,13 @@ struct Options {
   // each image's rolled frame, and loop closures refused between views rolled apart
   // (docs/design.md, "Camera roll").
   static Options HandHeld();
+  // The defaults with the whole-image channel, for places revisited under another light (day,
+  // then night: docs/design.md, "Whole-image channel").
+  static Options DayNight();
 };
 
-// Names accepted by `--preset` and Preset(): "default", "paper2011" and "hand-held".
+// Names accepted by `--preset` and Preset(): "default", "paper2011", "hand-held" and
+// "day-night".
 Options Preset(const std::string& name);
 
 }  // namespace memloop

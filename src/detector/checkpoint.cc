@@ -112,6 +112,8 @@ std::vector<unsigned char> EncodeLocation(const Location& location) {
     writer.Put<int32_t>(keypoint.octave);
   }
   writer.Put<int32_t>(signature.image);
+  // Only when there is one: without features.whole_image the bytes are those of format 5.
+  if (!signature.whole_image.empty()) writer.PutAll(signature.whole_image);
   return writer.Take();
 }
 
@@ -134,8 +136,10 @@ Location DecodeLocation(const std::vector<unsigned char>& bytes) {
     location.signature.keypoints.emplace_back(cv::Point2f(x, y), size, angle, response,
                                               reader.Get<int32_t>());
   }
-  // Checkpoints written before the signature's image was kept end here.
+  // Checkpoints written before the signature's image was kept end here; before its whole-image
+  // descriptor, after the image.
   if (!reader.AtEnd()) location.signature.image = reader.Get<int32_t>();
+  if (!reader.AtEnd()) location.signature.whole_image = reader.GetAll<uint8_t>();
   reader.ExpectEnd();
   return location;
 }

@@ -47,6 +47,22 @@ TEST(CheckpointTest, LocationsRoundTripExactly) {
   EXPECT_EQ(DecodeLocation(older).signature.words, location.signature.words);
 }
 
+// features.whole_image: the descriptor follows the image at the end; without one, the bytes are
+// those of format 5 (what a map made before the channel holds).
+TEST(CheckpointTest, WholeImageDescriptorRoundTripsAndIsOptional) {
+  Location location = SampleLocation();
+  const std::vector<unsigned char> without = EncodeLocation(location);
+  EXPECT_TRUE(DecodeLocation(without).signature.whole_image.empty());
+  location.signature.whole_image = {0, 17, 255, 3};
+  const std::vector<unsigned char> with = EncodeLocation(location);
+  EXPECT_EQ(with.size(), without.size() + sizeof(uint64_t) + 4);
+  EXPECT_EQ(DecodeLocation(with).signature.whole_image, location.signature.whole_image);
+  EXPECT_EQ(DecodeLocation(with).signature.image, 12);
+  std::vector<unsigned char> cut = with;
+  cut.pop_back();
+  EXPECT_THROW(DecodeLocation(cut), Error);
+}
+
 TEST(CheckpointTest, DamagedLocationBytesAreRefused) {
   std::vector<unsigned char> bytes = EncodeLocation(SampleLocation());
   std::vector<unsigned char> cut(bytes.begin(), bytes.end() - 3);

@@ -165,8 +165,14 @@ void CheckAppearance(const Memory& memory, const LongTermMemory& ltm,
 std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& ltm,
                                           const BayesFilter& filter,
                                           const std::vector<PastMatch>& past_matches,
-                                          const AppearanceIndex* appearance, size_t max_problems) {
+                                          const AppearanceIndex* appearance, bool whole_image,
+                                          size_t max_problems) {
   Problems problems(max_problems);
+  for (const auto& [id, location] : memory.locations()) {
+    if (location.signature.whole_image.empty() == whole_image) {
+      problems.Add(Name(id) + (whole_image ? " has no" : " has a") + " whole-image descriptor");
+    }
+  }
   if (appearance != nullptr) CheckAppearance(memory, ltm, *appearance, problems);
   CheckMemory(memory, problems);
   CheckWords(memory, problems);

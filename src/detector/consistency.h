@@ -14,11 +14,12 @@
 namespace memloop {
 
 // Returns one line per violation (at most `max_problems`); empty when consistent. `appearance`:
-// retrieval by appearance's index, null when off.
+// retrieval by appearance's index, null when off. `whole_image`: features.whole_image, every
+// location has a whole-image descriptor (else none has).
 std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& ltm,
                                           const BayesFilter& filter,
                                           const std::vector<PastMatch>& past_matches,
                                           const AppearanceIndex* appearance = nullptr,
-                                          size_t max_problems = 20);
+                                          bool whole_image = false, size_t max_problems = 20);
 
 }  // namespace memloop

@@ -21,7 +21,10 @@
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
 #include "detector/view_roll.h"
+#include "detector/whole_image_agreement.h"
+#include "detector/whole_image_likelihood.h"
 #include "detector/word_correspondences.h"
+#include "features/whole_image_descriptor.h"
 #include "memloop/errors.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
@@ -90,8 +93,9 @@ class Detector::Impl {
   ImageIndex session_first_image() const { return sessions_.first_image(counters_.last_image + 1); }
   void SetWriterHeld(bool held) { ltm_.SetWriterHeld(held); }
   std::vector<std::string> CheckConsistency() {
-    std::vector<std::string> problems = memloop::CheckConsistency(
-        memory_, ltm_, filter_, editor_.past_matches(), appearance_.get());
+    std::vector<std::string> problems =
+        memloop::CheckConsistency(memory_, ltm_, filter_, editor_.past_matches(), appearance_.get(),
+                                  options_.features.whole_image != 0);
     const int range = options_.filter.neighbour_range;
     if (wm_neighbourhoods_.Update(memory_, range) != memory_.WmNeighbourhoods(range)) {
       problems.push_back("the filter's kept neighbourhoods differ from a search of the graph");
@@ -263,7 +267,13 @@ class Detector::Impl {
       *appearance = appearance_->Describe(std::vector<WordId>(features.keypoints.size(), kNoWord),
                                           features.descriptors);
     }
-    return MatchSignature(features, memory_.dictionary());
+    Signature signature = MatchSignature(features, memory_.dictionary());
+    signature.whole_image = WholeImageOf(gray);
+    return signature;
+  }
+
+  std::vector<uint8_t> WholeImageOf(const cv::Mat& gray) const {
+    return options_.features.whole_image ? DescribeWholeImage(gray) : std::vector<uint8_t>{};
   }
 
   LocationId CreateLocation(const cv::Mat& gray, Result& result) {
@@ -273,6 +283,7 @@ class Detector::Impl {
     const WordId first_new_word = memory_.dictionary().next_word_id();
     Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
     signature.image = result.image_index;
+    signature.whole_image = WholeImageOf(gray);
     Appearance appearance = Describe(signature, features.descriptors, first_new_word);
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
@@ -305,10 +316,15 @@ class Detector::Impl {
 
   Likelihood ComputeObservation(const Signature& z_t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    return ComputeLikelihood(
+    Likelihood likelihood = ComputeLikelihood(
         options_.filter.likelihood == "tfidf" ? ScoreWorkingMemoryTfIdf(z_t, memory_)
                                               : ScoreWorkingMemory(z_t, memory_),
         options_.filter.min_sigma_ratio, options_.filter.no_signal_virtual_place);
+    if (options_.features.whole_image) {  // the second channel (whole_image_likelihood.h)
+      WeighWholeImage(z_t.whole_image, memory_, options_.filter, likelihood);
+      agreement_.Observe(likelihood, options_.filter.whole_image_support_z);
+    }
+    return likelihood;
   }
 
   // The neighbourhoods stay valid until the next image's UpdateFilter.
@@ -361,6 +377,10 @@ class Detector::Impl {
   void RequireSupport(const Signature& z_t, const Likelihood& likelihood,
                       Hypothesis& hypothesis) const {
     if (hypothesis.id == kNoLocation) return;
+    // Supported by the whole image instead of words only if the channel agreed over images.
+    if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
+      return agreement_.Require(memory_, options_.filter.neighbour_range, hypothesis);
+    }
     RequireSharedWords(z_t, memory_.at(hypothesis.id).signature, options_.filter.min_shared_words,
                        hypothesis);
     if (!options_.filter.require_support) return;
@@ -488,27 +508,9 @@ class Detector::Impl {
 
   void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
     ScopedTimer timer(&result.times.transfer_ms);
-    const double limit = options_.memory.time_limit_ms;
-    TransferTrigger trigger;
-    // The paper compares the processing time with T_time at this point; it includes the previous
-    // image's checkpoint, written at the start of this iteration, so that the whole iteration
-    // stays under T_time (issue 9).
-    const double elapsed_ms = iteration.ElapsedMs();
-    trigger.time_exceeded = TimeExceeded(elapsed_ms, limit, options_.memory.time_target);
-    const double wm_ms = result.times.WmStagesMs();
-    const double target_ms = options_.memory.time_target * limit;
-    const double share = options_.memory.wm_min_time_share;
-    // Over the target through stages WM does not drive: WM is kept (issue 37).
-    trigger.time_exceeded =
-        trigger.time_exceeded && WmIsTheCost(elapsed_ms, wm_ms, target_ms, share);
-    if (trigger.time_exceeded) {
-      trigger.min_locations = LocationsOverTime(elapsed_ms, wm_ms, target_ms,
-                                                static_cast<int>(memory_.working_memory().size()),
-                                                options_.memory.transfer_max_fraction, share);
-    }
-    trigger.max_wm_locations = options_.memory.max_wm_locations;
-    trigger.max_dictionary_words = options_.memory.max_dictionary_words;
-    trigger.dictionary_size_at_start = dictionary_size_at_start_;
+    const TransferTrigger trigger = MakeTransferTrigger(
+        options_.memory, iteration.ElapsedMs(), result.times.WmStagesMs(),
+        static_cast<int>(memory_.working_memory().size()), dictionary_size_at_start_);
     result.transferred_ids =
         Transfer(trigger, retrieval_immunity_.Immune(memory_), KeptLast(hypothesis), memory_,
                  editor_, DeadlineOf(iteration, &transfer_cost_));
@@ -564,6 +566,8 @@ class Detector::Impl {
   size_t dictionary_size_at_start_ = 0;
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
+  WholeImageAgreement agreement_{
+      options_.features.whole_image ? options_.filter.whole_image_agreement : 0};
   bool closed_ = false;
   SessionNumbering sessions_;
 };

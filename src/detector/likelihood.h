@@ -13,6 +13,8 @@ struct Likelihood {
   double virtual_place = 1;  // p(L_t | S_t = -1), eq. 4
   double mean = 0;           // mu of the non-null scores
   double stddev = 0;         // sigma of the non-null scores
+  // With the whole-image channel (whole_image_likelihood.h): each WM location's z there.
+  IdMap<double> whole_image_z;
 };
 
 // Eq. 1 for every WM location, through the dictionary's references (locations that share no word

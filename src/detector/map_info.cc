@@ -38,6 +38,7 @@ MapInfo InspectMap(const std::string& path) {
       checkpoint_problem.empty() ? "ok" : "resume checkpoint damaged (" + checkpoint_problem + ")";
   info.locations = database.CountLocations();
   info.words = database.CountWords();
+  info.whole_images = database.CountWholeImages();
   info.neighbour_links = database.QueryNumber("SELECT count(*) FROM links WHERE type=0");
   info.loop_closure_links = database.QueryNumber("SELECT count(*) FROM links WHERE type=1");
   info.images = database.QueryNumber("SELECT count(DISTINCT image) FROM location_images");

@@ -75,6 +75,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("U-SURF with surf.max_roll_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
     Param("surf.min_roll_degrees", MEMLOOP_FIELD(features.surf_min_roll_degrees)).Unit("degrees").Range(0, 45)
         .Help("U-SURF with surf.max_roll_degrees: a smaller estimated roll is described at angle 0, as U-SURF (which tolerates it)"),
+    Param("features.whole_image", MEMLOOP_FIELD(features.whole_image)).Flag()
+        .Help("true: each location also keeps a whole-image descriptor (HOG of a 128x64 thumbnail, 756 bytes) that the filter weighs beside the words (filter.whole_image_gain): loops across day and night"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)
         .Help("Nearest-neighbour distance ratio (true L2): d1 < ratio*d2 joins a word, else a new word"),
     Param("dictionary.kd_trees", MEMLOOP_FIELD(dictionary.kd_trees)).Unit("trees").Range(1, 64)
@@ -166,6 +168,14 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("eq. 1").Help("accept only a hypothesis L_i with which the image shares at least this many words (N_pair): one or two are chance collisions (0 = the paper)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()
         .Help("true: no loop closure on L_i while a location linked to it is in LTM (deferred for T_time, or transferred) and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, may lag behind the robot (false = the paper)"),
+    Param("filter.whole_image_gain", MEMLOOP_FIELD(filter.whole_image_gain)).Range(0, 100)
+        .Symbol("eq. 3-4").Help("With features.whole_image: a WM location whose descriptor scores z standard deviations above WM's mean has its likelihood multiplied by exp(gain*(z-min_z)) when z > min_z, the virtual place's by the mean of those (0 = not weighed)"),
+    Param("filter.whole_image_min_z", MEMLOOP_FIELD(filter.whole_image_min_z)).Unit("std. dev.").Range(0, 100)
+        .Help("With features.whole_image: the z under which a location's whole-image likelihood is 1"),
+    Param("filter.whole_image_support_z", MEMLOOP_FIELD(filter.whole_image_support_z)).Unit("std. dev.").Range(0, 100)
+        .Help("With features.whole_image: a hypothesis standing out of WM by this z in the channel is supported by the image without filter.require_support's and filter.min_shared_words' words, which night images lack (0 = never)"),
+    Param("filter.whole_image_agreement", MEMLOOP_FIELD(filter.whole_image_agreement)).Unit("images").Range(0, 1000)
+        .Help("With features.whole_image: accept a loop closure only when the channel's best WM location (z >= filter.whole_image_support_z) lay within filter.neighbour_range links of it in each of the last this many images, not all one location (0 = no check)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
         .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
@@ -398,7 +408,9 @@ std::string ParametersMarkdown() {
          "Defaults are memloop's best measured values (docs/real-data.md); `--preset paper2011` "
          "gives the paper's (Sec. IV; where its text is silent, its 2011 code's), and "
          "docs/design.md lists each departure; `--preset hand-held` is for a camera that rolls "
-         "about its axis (docs/design.md, \"Camera roll\"). Parameters marked "
+         "about its axis (docs/design.md, \"Camera roll\"), `--preset day-night` for places "
+         "revisited under another light (docs/design.md, \"Whole-image channel\"). Parameters "
+         "marked "
          "*map* define what a word is and how words are found: a map keeps them, and "
          "`memloop run --resume` refuses other values.\n\n"
          "| name | default | type | unit | range | paper | description |\n"

@@ -92,6 +92,14 @@ TEST(ParamsTest, PresetsByName) {
   for (const Parameter& parameter : Parameters()) {
     EXPECT_TRUE(parameter.Check(hand_held).empty()) << parameter.key;
   }
+  // day-night: the defaults with the whole-image channel; the defaults keep it off.
+  const Options day_night = Preset("day-night");
+  EXPECT_EQ(day_night.features.whole_image, 1);
+  EXPECT_EQ(Options().features.whole_image, 0);
+  EXPECT_EQ(day_night.filter.loop_threshold, Options().filter.loop_threshold);
+  for (const Parameter& parameter : Parameters()) {
+    EXPECT_TRUE(parameter.Check(day_night).empty()) << parameter.key;
+  }
 }
 
 TEST(ParamsTest, EveryParameterIsDescribed) {

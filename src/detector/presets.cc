@@ -61,12 +61,21 @@ Options Options::HandHeld() {
   return options;
 }
 
+Options Options::DayNight() {
+  Options options;
+  // The whole-image channel beside the words (whole_image_likelihood.h; docs/design.md,
+  // "Whole-image channel").
+  options.features.whole_image = 1;
+  return options;
+}
+
 Options Preset(const std::string& name) {
   if (name == "default") return Options();
   if (name == "paper2011") return Options::Paper2011();
   if (name == "hand-held") return Options::HandHeld();
-  throw ParameterError("--preset",
-                       "unknown preset '" + name + "' (default, paper2011 or hand-held)");
+  if (name == "day-night") return Options::DayNight();
+  throw ParameterError(
+      "--preset", "unknown preset '" + name + "' (default, paper2011, hand-held or day-night)");
 }
 
 }  // namespace memloop

@@ -29,6 +29,23 @@ int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_
   return std::min(over, static_cast<int>(std::ceil(max_fraction * wm_size)));
 }
 
+TransferTrigger MakeTransferTrigger(const MemoryOptions& memory, double elapsed_ms, double wm_ms,
+                                    int wm_size, size_t dictionary_size_at_start) {
+  TransferTrigger trigger;
+  const double target_ms = memory.time_target * memory.time_limit_ms;
+  trigger.time_exceeded = TimeExceeded(elapsed_ms, memory.time_limit_ms, memory.time_target) &&
+                          WmIsTheCost(elapsed_ms, wm_ms, target_ms, memory.wm_min_time_share);
+  if (trigger.time_exceeded) {
+    trigger.min_locations =
+        LocationsOverTime(elapsed_ms, wm_ms, target_ms, wm_size, memory.transfer_max_fraction,
+                          memory.wm_min_time_share);
+  }
+  trigger.max_wm_locations = memory.max_wm_locations;
+  trigger.max_dictionary_words = memory.max_dictionary_words;
+  trigger.dictionary_size_at_start = dictionary_size_at_start;
+  return trigger;
+}
+
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
                                       const std::set<LocationId>& last) {
   std::vector<LocationId> order;

@@ -10,6 +10,7 @@
 #include "detector/map_editor.h"
 #include "detector/memory.h"
 #include "detector/step_deadline.h"
+#include "memloop/options.h"
 
 namespace memloop {
 
@@ -46,6 +47,14 @@ bool WmIsTheCost(double elapsed_ms, double wm_ms, double target_ms, double min_s
 // location per iteration).
 int LocationsOverTime(double elapsed_ms, double wm_ms, double target_ms, int wm_size,
                       double max_fraction, double min_share = 0);
+
+// This iteration's trigger (III-F) from memory.*: T_time through its target, when WM is the cost
+// (WmIsTheCost: over the target through stages WM does not drive, WM is kept, issue 37), with
+// LocationsOverTime's count, and the budgets. `elapsed_ms` counts the iteration up to the
+// transfer step, the previous image's checkpoint included, so that the whole iteration stays
+// under T_time (issue 9); `wm_ms` is WM's stages' share of it.
+TransferTrigger MakeTransferTrigger(const MemoryOptions& memory, double elapsed_ms, double wm_ms,
+                                    int wm_size, size_t dictionary_size_at_start);
 
 // WM locations in the order they would be transferred: lowest weight first, then oldest
 // (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest

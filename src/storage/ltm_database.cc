@@ -333,6 +333,7 @@ void LtmDatabase::WriteLocation(const Location& location) {
         .Run();
   }
   WriteView(location);
+  WriteWholeImage(location);
   auto& word = Cached(
       "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
       " octave) VALUES(?,?,?,?,?,?,?,?,?)");
@@ -377,7 +378,8 @@ void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
         "DELETE FROM location_images WHERE location_id=?",
         "DELETE FROM signature_words WHERE location_id=?",
         "DELETE FROM appearances WHERE location_id=?",
-        "DELETE FROM location_views WHERE location_id=?"}) {
+        "DELETE FROM location_views WHERE location_id=?",
+        "DELETE FROM whole_images WHERE location_id=?"}) {
     Cached(sql).Bind(1, static_cast<long long>(absorbed)).Run();
   }
   // A survivor linked to itself through the redirection keeps no such link.
@@ -575,6 +577,7 @@ std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
   }
   words.Reset();
   location.signature.image = ReadView(id);
+  location.signature.whole_image = ReadWholeImage(id);
   return location;
 }
 

@@ -103,6 +103,10 @@ class LtmDatabase {
   // The image of a location's signature (Signature::image), kNoImage when not recorded.
   void WriteView(const Location& location);
   ImageIndex ReadView(LocationId id);
+  // Its whole-image descriptor (Signature::whole_image), empty when the map has none.
+  void WriteWholeImage(const Location& location);
+  std::vector<uint8_t> ReadWholeImage(LocationId id);
+  long long CountWholeImages();  // LTM locations with one
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
@@ -145,7 +149,8 @@ class LtmDatabase {
   int format_version_;  // before connection_: the file is checked before it is opened to write
   SqliteConnection connection_;
   std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
-  std::optional<bool> has_views_;  // the location_views table, once looked for
+  std::optional<bool> has_views_;         // the location_views table, once looked for
+  std::optional<bool> has_whole_images_;  // the whole_images table
 };
 
 }  // namespace memloop

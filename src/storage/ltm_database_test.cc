@@ -72,6 +72,30 @@ TEST(LtmDatabaseTest, RoundTrip) {
   EXPECT_EQ(database.ReadInfo("param.memory.stm_size"), "25");
 }
 
+// A location's whole-image descriptor (features.whole_image) is stored with it, read back on
+// retrieval, replaced, removed with it by a redirection; `memloop inspect` counts them.
+TEST(LtmDatabaseTest, WholeImageDescriptorsAreKeptWithTheirLocation) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+  Location location = SampleLocation();
+  location.signature.whole_image = {9, 0, 200};
+  database.WriteLocation(location);
+  Location other = SampleLocation();
+  other.id = 13;  // none
+  database.WriteLocation(other);
+  EXPECT_EQ(database.ReadLocation(12)->signature.whole_image, location.signature.whole_image);
+  EXPECT_TRUE(database.ReadLocation(13)->signature.whole_image.empty());
+  EXPECT_EQ(database.CountWholeImages(), 1);
+  location.signature.whole_image.clear();  // written again without one: it goes
+  database.WriteLocation(location);
+  EXPECT_EQ(database.CountWholeImages(), 0);
+  location.signature.whole_image = {1, 2};
+  database.WriteLocation(location);
+  database.RedirectLocation(12, 13);
+  EXPECT_EQ(database.CountWholeImages(), 0);
+}
+
 TEST(LtmDatabaseTest, ReplaceWordChangesEveryReferenceAndDropsTheOldWord) {
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);

@@ -11,14 +11,48 @@ void LtmDatabase::CreateImageTable() {
       " name TEXT NOT NULL, stamp REAL);"
       "CREATE INDEX IF NOT EXISTS images_session ON images(session, image);"
       "CREATE TABLE IF NOT EXISTS location_views(location_id INTEGER PRIMARY KEY,"
-      " image INTEGER NOT NULL);");
+      " image INTEGER NOT NULL);"
+      "CREATE TABLE IF NOT EXISTS whole_images(location_id INTEGER PRIMARY KEY,"
+      " descriptor BLOB NOT NULL);");
+}
+
+void LtmDatabase::WriteWholeImage(const Location& location) {
+  const std::vector<uint8_t>& descriptor = location.signature.whole_image;
+  auto& statement =
+      Cached(descriptor.empty() ? "DELETE FROM whole_images WHERE location_id=?"
+                                : "INSERT OR REPLACE INTO whole_images(location_id, descriptor)"
+                                  " VALUES(?,?)");
+  statement.Bind(1, static_cast<long long>(location.id));
+  if (!descriptor.empty()) {
+    statement.BindBlob(2, descriptor.data(), static_cast<int>(descriptor.size()));
+  }
+  statement.Run();
+}
+
+long long LtmDatabase::CountWholeImages() {
+  if (!has_whole_images_) has_whole_images_ = HasTable("whole_images");
+  return *has_whole_images_ ? QueryNumber("SELECT count(*) FROM whole_images") : 0;
+}
+
+std::vector<uint8_t> LtmDatabase::ReadWholeImage(LocationId id) {
+  if (!has_whole_images_) has_whole_images_ = HasTable("whole_images");
+  if (!*has_whole_images_) return {};
+  auto& query = Cached("SELECT descriptor FROM whole_images WHERE location_id=?");
+  query.Bind(1, static_cast<long long>(id));
+  std::vector<uint8_t> descriptor;
+  if (query.Step()) {
+    const std::vector<unsigned char> blob = query.Blob(0);
+    descriptor.assign(blob.begin(), blob.end());
+  }
+  query.Reset();
+  return descriptor;
 }
 
 void LtmDatabase::WriteView(const Location& location) {
-  auto& statement = Cached(
-      location.signature.image == kNoImage
-          ? "DELETE FROM location_views WHERE location_id=?"
-          : "INSERT OR REPLACE INTO location_views(location_id, image) VALUES(?,?)");
+  auto& statement =
+      Cached(location.signature.image == kNoImage
+                 ? "DELETE FROM location_views WHERE location_id=?"
+                 : "INSERT OR REPLACE INTO location_views(location_id, image) VALUES(?,?)");
   statement.Bind(1, static_cast<long long>(location.id));
   if (location.signature.image != kNoImage) {
     statement.Bind(2, static_cast<long long>(location.signature.image));

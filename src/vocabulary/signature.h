@@ -1,6 +1,7 @@
 // A signature z: the visual words of an image with the keypoint each came from (paper III-A).
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <utility>
 #include <vector>
@@ -18,6 +19,9 @@ struct Signature {
   // The image these keypoints were seen in (it follows the signature when Rehearsal gives it to
   // a newer location); kNoImage when unknown (a map made before memloop recorded it).
   ImageIndex image = kNoImage;
+  // That image's whole-image descriptor (features/whole_image_descriptor.h), empty without
+  // features.whole_image; it follows the signature as the image does.
+  std::vector<uint8_t> whole_image;
 
   int size() const { return static_cast<int>(words.size()); }
   // (word, occurrences), sorted by word.

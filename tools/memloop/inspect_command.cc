@@ -41,6 +41,7 @@ nlohmann::json Json(const MapInfo& info) {
           {"ltm_locations", info.locations},
           {"checkpoint_locations", info.checkpoint_locations},
           {"words", info.words},
+          {"whole_image_descriptors", info.whole_images},
           {"neighbour_links", info.neighbour_links},
           {"loop_closure_links", info.loop_closure_links},
           {"sessions", sessions},
@@ -55,6 +56,9 @@ void PrintText(const MapInfo& info) {
   std::printf("locations: %lld in LTM, %lld in STM/WM at the last checkpoint\n", info.locations,
               info.checkpoint_locations);
   std::printf("words in LTM: %lld\n", info.words);
+  if (info.whole_images > 0) {
+    std::printf("whole-image descriptors in LTM: %lld\n", info.whole_images);
+  }
   std::printf("links: %lld neighbour, %lld loop closure\n", info.neighbour_links,
               info.loop_closure_links);
   std::printf("sessions: %zu\n", info.sessions.size());

@@ -35,7 +35,8 @@ CLI::Option* AddPresetOption(CLI::App& command, std::string* name) {
   return command.add_option(
       "--preset", *name,
       "Starting values: default (memloop's measured best), paper2011 (the paper's mechanisms as "
-      "written) or hand-held (a camera that rolls about its axis); --set applies on top");
+      "written), hand-held (a camera that rolls about its axis) or day-night (places revisited "
+      "under another light); --set applies on top");
 }
 
 }  // namespace memloop::cli

@@ -1,0 +1,39 @@
+// The whole-image channel's cost (features.whole_image; docs/design.md, "Whole-image channel"):
+// describing an image, and scoring a descriptor against a WM of N locations.
+#include <benchmark/benchmark.h>
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "features/whole_image_descriptor.h"
+#include "memloop/synthetic_route.h"
+
+namespace memloop {
+namespace {
+
+void BM_WholeImageDescribe(benchmark::State& state) {
+  SyntheticRouteOptions options;
+  options.image_width = static_cast<int>(state.range(0));
+  options.image_height = options.image_width * 9 / 16;
+  const cv::Mat gray = SyntheticRoute(options).RenderGray(3);
+  for (auto _ : state) benchmark::DoNotOptimize(DescribeWholeImage(gray));
+}
+BENCHMARK(BM_WholeImageDescribe)->Arg(320)->Arg(960)->Unit(benchmark::kMicrosecond);
+
+// N descriptors of generated images, scored against one: the channel's part of the likelihood.
+void BM_WholeImageScoreWm(benchmark::State& state) {
+  const SyntheticRoute route;
+  std::vector<WholeImageDescriptor> wm;
+  for (int k = 0; k < 64; ++k) wm.push_back(DescribeWholeImage(route.RenderGray(k)));
+  const WholeImageDescriptor query = DescribeWholeImage(route.RenderGray(100));
+  const auto locations = static_cast<size_t>(state.range(0));
+  for (auto _ : state) {
+    double sum = 0;
+    for (size_t j = 0; j < locations; ++j) sum += WholeImageSimilarity(query, wm[j % wm.size()]);
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_WholeImageScoreWm)->Arg(100)->Arg(500)->Arg(2000)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace memloop

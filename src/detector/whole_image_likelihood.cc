@@ -1,0 +1,67 @@
+#include "detector/whole_image_likelihood.h"
+
+#include <cmath>
+
+#include "features/whole_image_descriptor.h"
+
+namespace memloop {
+
+IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory) {
+  IdMap<double> scores;
+  scores.reserve(memory.working_memory().size());
+  for (LocationId id : memory.working_memory()) {
+    scores.emplace_hint(scores.end(), id,
+                        WholeImageSimilarity(descriptor, memory.at(id).signature.whole_image));
+  }
+  return scores;
+}
+
+WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, double gain,
+                                                 double min_z) {
+  WholeImageLikelihood channel;
+  channel.scores = scores;
+  channel.values.reserve(scores.size());
+  const double count = static_cast<double>(scores.size());
+  double sum = 0, squares = 0;
+  for (const auto& [id, score] : scores) sum += score;
+  if (count > 0) channel.mean = sum / count;
+  for (const auto& [id, score] : scores) squares += (score - channel.mean) * (score - channel.mean);
+  if (count > 0) channel.stddev = std::sqrt(squares / count);
+  constexpr double kNoSpread = 1e-9;
+  const bool weighed = scores.size() >= 2 && channel.stddev > kNoSpread && gain > 0;
+  double values = 0;
+  for (const auto& [id, score] : scores) {
+    const double z = weighed ? (score - channel.mean) / channel.stddev : 0;
+    const double value = z > min_z ? std::exp(gain * (z - min_z)) : 1.0;
+    values += value;
+    channel.z.emplace_hint(channel.z.end(), id, z);
+    channel.values.emplace_hint(channel.values.end(), id, value);
+  }
+  channel.virtual_place = count > 0 ? values / count : 1.0;
+  return channel;
+}
+
+void MultiplyLikelihood(const WholeImageLikelihood& channel, Likelihood& likelihood) {
+  for (auto& [id, value] : likelihood.values) {
+    const auto found = channel.values.find(id);
+    if (found != channel.values.end()) value *= found->second;
+  }
+  likelihood.virtual_place *= channel.virtual_place;
+  likelihood.whole_image_z = channel.z;
+}
+
+void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
+                     const FilterOptions& options, Likelihood& likelihood) {
+  MultiplyLikelihood(
+      ComputeWholeImageLikelihood(ScoreWholeImage(descriptor, memory), options.whole_image_gain,
+                                  options.whole_image_min_z),
+      likelihood);
+}
+
+bool SupportedByWholeImage(const Likelihood& likelihood, LocationId id, double min_z) {
+  if (min_z <= 0) return false;
+  const auto z = likelihood.whole_image_z.find(id);
+  return z != likelihood.whole_image_z.end() && z->second >= min_z;
+}
+
+}  // namespace memloop

@@ -1,0 +1,50 @@
+// The whole-image channel of the observation model (memloop, issue 34; docs/design.md,
+// "Whole-image channel"): the image's whole-image descriptor scored against every WM location,
+// like eq. 1, and made a likelihood multiplied into eq. 3 and 4. The channels are taken as
+// independent given the place, so their likelihoods multiply.
+#pragma once
+
+#include "detector/id_map.h"
+#include "detector/likelihood.h"
+#include "detector/memory.h"
+#include "memloop/options.h"
+
+namespace memloop {
+
+struct WholeImageLikelihood {
+  IdMap<double> scores;      // cosine similarity with each WM location's descriptor
+  IdMap<double> z;           // (s_j - mean) / stddev, 0 with nothing to weigh
+  IdMap<double> values;      // the channel's p(L_t | S_t = j)
+  double virtual_place = 1;  // the channel's p(L_t | S_t = -1)
+  double mean = 0;           // of the scores over WM
+  double stddev = 0;
+};
+
+// Every WM location's score (0 for one without a descriptor).
+IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory);
+
+// z_j = (s_j - mean) / stddev over WM. A location is likelier the further its z passes min_z:
+// exp(gain * (z_j - min_z)), else 1. Whole-image scores are dense (every image shares gradients
+// with every other), so eq. 3's (s - sigma) / mu would barely leave 1; z measures how far the
+// place stands out of WM as eq. 3 means to. The virtual place gets the mean of the values over
+// WM: what an image of a new place, whose scores are all noise, earns on average; an image's
+// weak peak thus moves little mass, while the same place standing out image after image (the
+// transition model carries it) builds a hypothesis. All 1 with fewer than 2 locations or no
+// spread.
+WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, double gain,
+                                                 double min_z);
+
+// Eq. 3 and 4 times the channel's values (a location absent from the channel keeps its value);
+// the channel's z go to likelihood.whole_image_z.
+void MultiplyLikelihood(const WholeImageLikelihood& channel, Likelihood& likelihood);
+
+// The three above with filter.whole_image_gain and whole_image_min_z.
+void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
+                     const FilterOptions& options, Likelihood& likelihood);
+
+// filter.whole_image_support_z: a hypothesis whose image stands out of WM by at least `min_z`
+// in the channel is supported by the image even when it shares few words with it (by night,
+// SURF's words are streetlights and noise). False without the channel or with min_z 0.
+bool SupportedByWholeImage(const Likelihood& likelihood, LocationId id, double min_z);
+
+}  // namespace memloop
