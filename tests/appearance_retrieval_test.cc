@@ -73,7 +73,9 @@ TEST(AppearanceRetrievalTest, PlacesLongGoneFromWmAreFoundOnlyByAppearance) {
   ASSERT_EQ(sequence.revisit_frames(), 30);
   const Outcome with = RunWhole(sequence, Budget(true));
   EXPECT_EQ(with.false_positives, 0);
-  EXPECT_GE(with.true_positives, 18) << "of 30 revisit images";
+  // 17: the vocabulary's search index is used from 20,000 words past its completion (built in
+  // the background meanwhile, appearance_index.h); used at once, 18.
+  EXPECT_GE(with.true_positives, 17) << "of 30 revisit images";
   EXPECT_EQ(with.on_retrieved, with.true_positives);
 
   const Outcome without = RunWhole(sequence, Budget(false));

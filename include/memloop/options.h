@@ -155,7 +155,7 @@ struct MemoryOptions {
   // dictionary's first words, copied as they are created. 32,768 (8,192 until 2026-12-03): with
   // appearance_max_postings, the rarest entries still tell a million places apart
   // (bench/appearance_search_benchmark.cc: every revisit found at a million, against 31% with
-  // 8,192); complete after ~160 images.
+  // 8,192); complete after ~160-200 images, its search index built in the background.
   int appearance_vocabulary = 32768;
   // How far (standard deviations over LTM's scores) the best LTM location must stand out to be
   // retrieved by appearance.

@@ -42,10 +42,24 @@ int AppearanceIndex::CollectWords(const std::vector<WordId>& ids, const cv::Mat&
 
 void AppearanceIndex::Freeze() {
   frozen_ = true;
-  search_ = WordIndex::Create(kind_, descriptor_dim_, index_options_);
+  switch_word_ = vocabulary_words_.back() + kSwitchWords;
   std::vector<WordId> ids(vocabulary_words_.size());
   for (size_t entry = 0; entry < ids.size(); ++entry) ids[entry] = static_cast<WordId>(entry + 1);
-  search_->Add(ids, vocabulary_);
+  // FLANN's builds take turns on its seed (flann_word_index.cc): the same index either way.
+  auto build = [kind = kind_, dim = descriptor_dim_, options = index_options_,
+                rows = vocabulary_.clone(), ids = std::move(ids)] {
+    std::unique_ptr<WordIndex> search = WordIndex::Create(kind, dim, options);
+    search->Add(ids, rows);
+    return search;
+  };
+  search_.reset();
+  building_ = std::async(std::launch::async, std::move(build));
+}
+
+bool AppearanceIndex::UseSearch(const std::vector<WordId>& words) const {
+  WordId newest = kNoWord;
+  for (WordId word : words) newest = std::max(newest, word);
+  return newest == kNoWord || newest >= switch_word_;
 }
 
 void AppearanceIndex::Reload(const std::vector<WordId>& words, const cv::Mat& rows) {
@@ -59,6 +73,8 @@ void AppearanceIndex::Reload(const std::vector<WordId>& words, const cv::Mat& ro
   vocabulary_ = cv::Mat();
   entry_of_word_.clear();
   frozen_ = false;
+  if (building_.valid()) building_.wait();
+  building_ = {};
   search_.reset();
   for (std::vector<LocationId>& posting : postings_) posting.clear();
   std::fill(holders_.begin(), holders_.end(), 0);
@@ -70,13 +86,15 @@ void AppearanceIndex::Reload(const std::vector<WordId>& words, const cv::Mat& ro
   appearances_.clear();
   if (CollectWords(words, rows) != rows.rows)
     throw Error("the appearance vocabulary repeats a word");
+  if (building_.valid()) search_ = building_.get();  // a resumed map describes at once
 }
 
 Appearance AppearanceIndex::Describe(const std::vector<WordId>& words,
                                      const cv::Mat& descriptors) const {
   Appearance appearance;
-  if (frozen_) {
+  if (frozen_ && UseSearch(words)) {
     if (descriptors.rows == 0) return appearance;
+    if (building_.valid()) search_ = building_.get();
     for (const auto& nearest : search_->Search(descriptors)) {
       if (nearest[0].word != kNoWord) appearance.push_back(nearest[0].word - 1);
     }
@@ -134,8 +152,8 @@ void AppearanceIndex::SetSearched(LocationId id, bool searched) {
     searched_bits_.resize(std::max(slot / 64 + 1, 2 * searched_bits_.size()), 0);
   }
   const uint64_t bit = uint64_t{1} << (slot % 64);
-  searched_bits_[slot / 64] = searched ? searched_bits_[slot / 64] | bit
-                                       : searched_bits_[slot / 64] & ~bit;
+  searched_bits_[slot / 64] =
+      searched ? searched_bits_[slot / 64] | bit : searched_bits_[slot / 64] & ~bit;
   searched_count_ = searched ? searched_count_ + 1 : searched_count_ - 1;
 }
 

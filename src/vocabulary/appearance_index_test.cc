@@ -32,8 +32,12 @@ TEST(AppearanceIndexTest, VocabularyIsTheFirstWordsAndThenFrozen) {
   EXPECT_TRUE(index.frozen());
   EXPECT_EQ(index.vocabulary_words(), (std::vector<WordId>{10, 11, 12, 13}));
   EXPECT_EQ(index.CollectWords({15}, Rows({0})), 0);
-  // Frozen: each row goes to its nearest entry, whatever its word.
+  // Frozen: each row goes to its nearest entry, whatever its word, for features without words
+  // (localization) or whose newest word is 20,000 past the vocabulary's last (13): the search
+  // index is built in the background meanwhile, and until then entries are words, as before.
   EXPECT_EQ(index.Describe({kNoWord, kNoWord, kNoWord}, Rows({3, 0, 3}, 0.9f)), (Appearance{0, 3}));
+  EXPECT_EQ(index.Describe({12, 20012}, Rows({0, 1})), (Appearance{2}));
+  EXPECT_EQ(index.Describe({12, 20013}, Rows({0, 1})), (Appearance{0, 1}));
 }
 
 // Four locations over four entries, all searched: A {0,1}, B {1,2}, C {2,3}, D {3}.
