@@ -1,6 +1,7 @@
 #include "detector/whole_image_likelihood.h"
 
 #include <cmath>
+#include <utility>
 
 #include "features/whole_image_descriptor.h"
 
@@ -19,7 +20,6 @@ IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memo
 WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, double gain,
                                                  double min_z) {
   WholeImageLikelihood channel;
-  channel.scores = scores;
   channel.values.reserve(scores.size());
   const double count = static_cast<double>(scores.size());
   double sum = 0, squares = 0;
@@ -41,13 +41,13 @@ WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, do
   return channel;
 }
 
-void MultiplyLikelihood(const WholeImageLikelihood& channel, Likelihood& likelihood) {
+void MultiplyLikelihood(WholeImageLikelihood channel, Likelihood& likelihood) {
   for (auto& [id, value] : likelihood.values) {
     const auto found = channel.values.find(id);
     if (found != channel.values.end()) value *= found->second;
   }
   likelihood.virtual_place *= channel.virtual_place;
-  likelihood.whole_image_z = channel.z;
+  likelihood.whole_image_z = std::move(channel.z);
 }
 
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,

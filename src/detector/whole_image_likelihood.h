@@ -12,7 +12,6 @@
 namespace memloop {
 
 struct WholeImageLikelihood {
-  IdMap<double> scores;      // cosine similarity with each WM location's descriptor
   IdMap<double> z;           // (s_j - mean) / stddev, 0 with nothing to weigh
   IdMap<double> values;      // the channel's p(L_t | S_t = j)
   double virtual_place = 1;  // the channel's p(L_t | S_t = -1)
@@ -36,7 +35,7 @@ WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, do
 
 // Eq. 3 and 4 times the channel's values (a location absent from the channel keeps its value);
 // the channel's z go to likelihood.whole_image_z.
-void MultiplyLikelihood(const WholeImageLikelihood& channel, Likelihood& likelihood);
+void MultiplyLikelihood(WholeImageLikelihood channel, Likelihood& likelihood);
 
 // The three above with filter.whole_image_gain and whole_image_min_z.
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,

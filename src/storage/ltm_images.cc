@@ -40,10 +40,7 @@ std::vector<uint8_t> LtmDatabase::ReadWholeImage(LocationId id) {
   auto& query = Cached("SELECT descriptor FROM whole_images WHERE location_id=?");
   query.Bind(1, static_cast<long long>(id));
   std::vector<uint8_t> descriptor;
-  if (query.Step()) {
-    const std::vector<unsigned char> blob = query.Blob(0);
-    descriptor.assign(blob.begin(), blob.end());
-  }
+  if (query.Step()) descriptor = query.Blob(0);
   query.Reset();
   return descriptor;
 }

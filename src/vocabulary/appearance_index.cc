@@ -19,7 +19,7 @@ AppearanceIndex::AppearanceIndex(DescriptorKind kind, int descriptor_dim, int vo
       postings_(static_cast<size_t>(std::max(vocabulary_size, 0))),
       holders_(postings_.size(), 0),
       compacted_at_(postings_.size(), 0) {
-  index_options_.rebuild_delay = 0;  // built once, when frozen, in the calling thread
+  index_options_.rebuild_delay = 0;  // built once, when frozen, in a thread of its own (Freeze)
   // A coarse quantizer: one tree and few checks cost a third of the dictionary's search, and a
   // near-nearest entry describes a place as well.
   index_options_.kd_trees = 1;
