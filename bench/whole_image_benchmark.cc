@@ -1,10 +1,12 @@
 // The whole-image channel's cost (features.whole_image; docs/design.md, "Whole-image channel"):
-// describing an image, and scoring a descriptor against a WM of N locations.
+// describing an image, and scoring a descriptor against a WM of N locations. Beside it, the
+// other per-image description of the whole image: its camera roll (camera_roll.h).
 #include <benchmark/benchmark.h>
 
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "features/camera_roll.h"
 #include "features/whole_image_descriptor.h"
 #include "memloop/synthetic_route.h"
 
@@ -34,6 +36,17 @@ void BM_WholeImageScoreWm(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WholeImageScoreWm)->Arg(100)->Arg(500)->Arg(2000)->Unit(benchmark::kMicrosecond);
+
+// The camera's roll from an image's edges (camera_roll.h): once per image with the rolled view
+// (surf.rolled_view_degrees, the default) or roll compensation (--preset hand-held).
+void BM_EstimateCameraRoll(benchmark::State& state) {
+  SyntheticRouteOptions options;
+  options.image_width = static_cast<int>(state.range(0));
+  options.image_height = options.image_width * 9 / 16;
+  const cv::Mat gray = SyntheticRoute(options).RenderGray(3);
+  for (auto _ : state) benchmark::DoNotOptimize(EstimateCameraRoll(gray));
+}
+BENCHMARK(BM_EstimateCameraRoll)->Arg(320)->Arg(960)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace memloop

@@ -105,22 +105,25 @@ DataSetRun RunDataSet(const std::string& name, Options options) {
 }
 
 // Issue 8's floors with the default parameters, a margin under what docs/real-data.md measured
-// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82-89%, tum_fr1_rpy 29.5-29.8%,
-// corridor 11.7% since its 160x120 images are enlarged 2x, features.min_image_side, lip6_outdoor
-// 48.8%), and no false positive at the default T_loop. corridor's floor is wide: its recall moved
-// between 0% and 4.5% with the forest's random splits alone before the enlargement.
+// (recall at 100% precision: rtabmap_samples 97.7%, gp_walk_a 82-89%, tum_fr1_rpy 28.7%,
+// corridor 11.7% since its 160x120 images are enlarged 2x, features.min_image_side), and no false
+// positive at the default T_loop. corridor's floor is wide: its recall moved between 0% and 4.5%
+// with the forest's random splits alone before the enlargement. lip6_outdoor, the paper's data
+// (issue 33): RTAB-Map 0.23.8's 51.8% strict and 83.7% lenient are the floors; measured 56.1% /
+// 88.4% with the rolled view (surf.rolled_view_degrees), 48.8% / 78.1% without.
 TEST(RealDataTest, RecallFloorsOnEverySharedDataSet) {
   const std::map<std::string, double> floors = {{"rtabmap_samples", 0.95},
                                                 {"gp_walk_a", 0.77},
                                                 {"tum_fr1_rpy", 0.20},
                                                 {"corridor", 0.05},
-                                                {"lip6_outdoor", 0.45}};
+                                                {"lip6_outdoor", 0.518}};
   int present = 0;
   for (const auto& [name, floor] : floors) {
     if (!std::filesystem::exists(Datasets() + "/" + name + "/images")) continue;
     ++present;
     const DataSetRun run = RunDataSet(name, Options());
     EXPECT_GE(run.evaluation.recall_at_full_precision, floor) << name;
+    if (name == "lip6_outdoor") EXPECT_GE(run.lenient.recall_at_full_precision, 0.837);
     EXPECT_EQ(run.evaluation.accepted.false_positives, 0) << name;
     // The report draws what eval counts (before, tum_fr1_rpy's 84 loop closures on ignored pairs
     // were drawn as false positives while eval counted none).

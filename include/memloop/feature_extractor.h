@@ -18,6 +18,9 @@ enum class DescriptorKind { kFloat, kBinary };
 struct Features {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;  // one row per keypoint: CV_32F for kFloat, CV_8U for kBinary
+  // surf.rolled_view_degrees: the same keypoints described in the frame of the image's roll;
+  // empty when the image has no such view.
+  cv::Mat rolled_descriptors;
 };
 
 class FeatureExtractor {

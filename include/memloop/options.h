@@ -33,8 +33,12 @@ struct FeatureOptions {
   // U-SURF: when the image's edges say the camera is rolled (camera_roll.h) by at most this many
   // degrees, every keypoint is described in the rolled frame instead of at angle 0 (0: off).
   double surf_max_roll_degrees = 0;
-  double surf_min_roll_strength = 0.05;  // the roll estimate's strength needed (0..1)
-  double surf_min_roll_degrees = 0;      // smaller rolls are described at 0, as U-SURF
+  double surf_min_roll_strength = 0.1;  // the roll estimate's strength needed (0..1)
+  double surf_min_roll_degrees = 10;    // smaller rolls are left to U-SURF's own tolerance
+  // U-SURF: when the image's edges say the camera is rolled by at most this many degrees (and by
+  // surf.min_roll_degrees or more), its keypoints are also described in the rolled frame, a
+  // second view matched against WM beside the upright one (detector/rolled_view.h; 0: off).
+  double surf_rolled_view_degrees = 20;
   // The same for OpenCV's SIFT and ORB: 1 describes every keypoint at angle 0 (memloop; OpenCV's
   // own detectors orient them, as Options::Paper2011() keeps). On the hand-held tum_fr1_rpy,
   // oriented SIFT and ORB match rolled views the ground truth calls different (docs/real-data.md).

@@ -17,6 +17,7 @@
 #include "detector/neighbourhood_cache.h"
 #include "detector/rehearsal.h"
 #include "detector/retrieval.h"
+#include "detector/rolled_view.h"
 #include "detector/session_numbering.h"
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
@@ -269,6 +270,7 @@ class Detector::Impl {
     }
     Signature signature = MatchSignature(features, memory_.dictionary());
     signature.whole_image = WholeImageOf(gray);
+    rolled_view_.Observe(features, memory_.dictionary());
     return signature;
   }
 
@@ -282,6 +284,7 @@ class Detector::Impl {
     int new_words = 0;
     const WordId first_new_word = memory_.dictionary().next_word_id();
     Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    rolled_view_.Observe(features, memory_.dictionary());  // after the words it may match
     signature.image = result.image_index;
     signature.whole_image = WholeImageOf(gray);
     Appearance appearance = Describe(signature, features.descriptors, first_new_word);
@@ -316,10 +319,12 @@ class Detector::Impl {
 
   Likelihood ComputeObservation(const Signature& z_t, Result& result) {
     ScopedTimer timer(&result.times.likelihood_ms);
-    Likelihood likelihood = ComputeLikelihood(
-        options_.filter.likelihood == "tfidf" ? ScoreWorkingMemoryTfIdf(z_t, memory_)
-                                              : ScoreWorkingMemory(z_t, memory_),
-        options_.filter.min_sigma_ratio, options_.filter.no_signal_virtual_place);
+    const bool tfidf = options_.filter.likelihood == "tfidf";
+    IdMap<double> scores =
+        tfidf ? ScoreWorkingMemoryTfIdf(z_t, memory_) : ScoreWorkingMemory(z_t, memory_);
+    if (!tfidf) rolled_view_.Raise(memory_, z_t.size(), scores);  // eq. 1's, a rolled image's
+    Likelihood likelihood = ComputeLikelihood(scores, options_.filter.min_sigma_ratio,
+                                              options_.filter.no_signal_virtual_place);
     if (options_.features.whole_image) {  // the second channel (whole_image_likelihood.h)
       WeighWholeImage(z_t.whole_image, memory_, options_.filter, likelihood);
       agreement_.Observe(likelihood, options_.filter.whole_image_support_z);
@@ -342,13 +347,14 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
-    RequireSupport(z_t, likelihood, hypothesis);
-    RequireSimilarRoll(z_t, hypothesis);
+    const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
+    RequireSupport(view, likelihood, hypothesis);
+    RequireSimilarRoll(view, hypothesis);
     // Not in the checkpoint: after a resume the first image has no previous value (refused).
     RequireLoopRatio(previous_hypothesis_value_, options_.filter.loop_ratio, hypothesis);
     if (hypothesis.id != kNoLocation) previous_hypothesis_value_ = hypothesis.value;
     CheckLtmNeighbours(appearance, hypothesis);
-    Verify(z_t, hypothesis, result);
+    Verify(view, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
@@ -566,6 +572,7 @@ class Detector::Impl {
   size_t dictionary_size_at_start_ = 0;
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
+  RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view
   WholeImageAgreement agreement_{
       options_.features.whole_image ? options_.filter.whole_image_agreement : 0};
   bool closed_ = false;

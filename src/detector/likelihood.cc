@@ -6,7 +6,8 @@
 
 namespace memloop {
 
-IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory) {
+IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory, size_t image_words) {
+  if (image_words == 0) image_words = z_t.size();
   std::unordered_map<LocationId, int> pairs;
   for (const auto& [word, count] : z_t.Histogram()) {
     for (const auto& [location, occurrences] : memory.dictionary().References(word)) {
@@ -18,9 +19,10 @@ IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory) {
   for (LocationId id : memory.working_memory()) {
     const auto found = pairs.find(id);
     scores.emplace_hint(scores.end(), id,
-                        found == pairs.end() ? 0.0
-                                             : SimilarityFromPairs(found->second, z_t.size(),
-                                                                   memory.at(id).signature.size()));
+                        found == pairs.end()
+                            ? 0.0
+                            : SimilarityFromPairs(found->second, static_cast<int>(image_words),
+                                                  memory.at(id).signature.size()));
   }
   return scores;
 }

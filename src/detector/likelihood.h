@@ -18,8 +18,11 @@ struct Likelihood {
 };
 
 // Eq. 1 for every WM location, through the dictionary's references (locations that share no word
-// with z_t score 0 without being visited).
-IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory);
+// with z_t score 0 without being visited). `image_words` > 0 stands for z_t's size in eq. 1: a
+// second view of the image (rolled_view.h) holds only the words it matched, and is scored as the
+// image it describes.
+IdMap<double> ScoreWorkingMemory(const Signature& z_t, const Memory& memory,
+                                 size_t image_words = 0);
 
 // tf-idf scores for every WM location j: the sum over the words w of z_t of
 // n_wj / n_j * log10(N / n_w), with n_wj the occurrences of w in z_j, n_j the size of z_j, N the

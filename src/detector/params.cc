@@ -72,9 +72,11 @@ std::vector<Parameter> MakeRegistry() {
     Param("surf.max_roll_degrees", MEMLOOP_FIELD(features.surf_max_roll_degrees)).Unit("degrees").Range(0, 45)
         .Help("U-SURF: an image whose edges show the camera rolled by at most this is described in the rolled frame (0 = at angle 0)"),
     Param("surf.min_roll_strength", MEMLOOP_FIELD(features.surf_min_roll_strength)).Range(0, 1)
-        .Help("U-SURF with surf.max_roll_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
+        .Help("U-SURF with surf.max_roll_degrees or surf.rolled_view_degrees: the roll estimate's strength (edges on one axis pair, 0..1) needed to use it"),
     Param("surf.min_roll_degrees", MEMLOOP_FIELD(features.surf_min_roll_degrees)).Unit("degrees").Range(0, 45)
-        .Help("U-SURF with surf.max_roll_degrees: a smaller estimated roll is described at angle 0, as U-SURF (which tolerates it)"),
+        .Help("U-SURF with surf.max_roll_degrees or surf.rolled_view_degrees: a smaller estimated roll is left at angle 0, as U-SURF (which tolerates it)"),
+    Param("surf.rolled_view_degrees", MEMLOOP_FIELD(features.surf_rolled_view_degrees)).Unit("degrees").Range(0, 45)
+        .Help("U-SURF: an image whose edges show the camera rolled by surf.min_roll_degrees to this is also matched in the rolled frame, a second view beside the upright one: each WM location scores the better of the two (0 = off)"),
     Param("features.whole_image", MEMLOOP_FIELD(features.whole_image)).Flag()
         .Help("true: each location also keeps a whole-image descriptor (HOG of a 128x64 thumbnail, 756 bytes) that the filter weighs beside the words (filter.whole_image_gain): loops across day and night"),
     Param("dictionary.nndr_ratio", MEMLOOP_FIELD(dictionary.nndr_ratio)).AboveRange(0, 1)

@@ -9,6 +9,7 @@ Options Options::Paper2011() {
   options.features.sift_upright = 0;  // oriented, as the paper's SURF
   options.features.orb_upright = 0;
   options.features.min_image_side = 0;
+  options.features.surf_rolled_view_degrees = 0;  // one view per image (and oriented SURF)
   // The 2011 code's SURF (OpenCV 2.2): det(H) >= 100, 4 octaves of 2 layers (4 filter sizes), the
   // first octave sampled at every pixel. The text says "SURF" only.
   options.features.surf_hessian_threshold = 100;
@@ -46,11 +47,13 @@ Options Options::Paper2011() {
 Options Options::HandHeld() {
   Options options;
   // U-SURF in the frame of each image's roll, from its edges (camera_roll.h), when the edges are
-  // clear (strength 0.1: a blurred 160x120 corridor's are not) and the roll is over what U-SURF
-  // tolerates by itself (8 degrees).
+  // clear (strength 0.1, the default: a blurred 160x120 corridor's are not) and the roll is over
+  // what U-SURF tolerates by itself (8 degrees).
   options.features.surf_max_roll_degrees = 45;
   options.features.surf_min_roll_degrees = 8;
   options.features.surf_min_roll_strength = 0.1;
+  // Every image rolled 8-45 degrees is described in its rolled frame: no second view to add.
+  options.features.surf_rolled_view_degrees = 0;
   // Rolled views then look alike however far apart they were rolled; by their shared words'
   // geometry (view_roll.h), those rolled more than 20 degrees apart are other views. Measured on
   // tum_fr1_rpy: bounds 15-35 give no false positive without a WM budget, 45 or none three; at

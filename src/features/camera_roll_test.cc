@@ -73,6 +73,36 @@ TEST(CameraRollTest, UprightSurfDescribesInTheRolledFrame) {
   }
 }
 
+// surf.rolled_view_degrees: the keypoints and their upright descriptors as without it, and, for
+// an image rolled within [surf.min_roll_degrees, the bound], the same keypoints described in the
+// rolled frame, as surf.max_roll_degrees would describe them.
+TEST(CameraRollTest, RolledViewIsTheCompensatedDescriptionBesideTheUprightOne) {
+  FeatureOptions plain;
+  plain.surf_rolled_view_degrees = 0;
+  FeatureOptions second = plain;
+  second.surf_rolled_view_degrees = 20;
+  second.surf_min_roll_degrees = 8;
+  FeatureOptions compensated = plain;
+  compensated.surf_max_roll_degrees = 20;
+  compensated.surf_min_roll_degrees = 8;
+  const cv::Mat image = Facade(-12);
+  const Features upright = SurfExtractor(plain).Extract(image);
+  const Features both = SurfExtractor(second).Extract(image);
+  const Features turned = SurfExtractor(compensated).Extract(image);
+  ASSERT_FALSE(both.keypoints.empty());
+  EXPECT_EQ(cv::norm(both.descriptors, upright.descriptors, cv::NORM_INF), 0);
+  ASSERT_EQ(both.rolled_descriptors.rows, both.keypoints.size());
+  EXPECT_EQ(cv::norm(both.rolled_descriptors, turned.descriptors, cv::NORM_INF), 0);
+  for (const cv::KeyPoint& keypoint : both.keypoints) EXPECT_EQ(keypoint.angle, 0);
+  // Under the minimum (U-SURF tolerates it), over the bound, or compensated already: none.
+  EXPECT_TRUE(SurfExtractor(second).Extract(Facade(5)).rolled_descriptors.empty());
+  EXPECT_TRUE(SurfExtractor(second).Extract(Facade(30)).rolled_descriptors.empty());
+  FeatureOptions with_compensation = second;
+  with_compensation.surf_max_roll_degrees = 20;
+  EXPECT_TRUE(SurfExtractor(with_compensation).Extract(image).rolled_descriptors.empty());
+  EXPECT_TRUE(upright.rolled_descriptors.empty());
+}
+
 // The point of it: a view rolled by 12 degrees gives the same descriptors as the upright view
 // once both are described in their own frames, much closer than at angle 0.
 TEST(CameraRollTest, CompensationBringsARolledViewsDescriptorsBack) {

@@ -17,6 +17,7 @@ SurfExtractor::SurfExtractor(const FeatureOptions& options) : max_features_(opti
   max_roll_radians_ = options.surf_max_roll_degrees * M_PI / 180;
   min_roll_strength_ = options.surf_min_roll_strength;
   min_roll_radians_ = options.surf_min_roll_degrees * M_PI / 180;
+  rolled_view_radians_ = options.surf_rolled_view_degrees * M_PI / 180;
 }
 
 Features SurfExtractor::Extract(const cv::Mat& gray) const {
@@ -35,15 +36,23 @@ Features SurfExtractor::Extract(const cv::Mat& gray) const {
     features.keypoints.resize(max_features_);
   }
   SurfDescriptorOptions descriptor = descriptor_;
-  if (descriptor.upright && max_roll_radians_ > 0) {
-    const CameraRoll roll = EstimateCameraRoll(gray);
-    const double size = std::fabs(roll.radians);
-    if (roll.strength >= min_roll_strength_ && size <= max_roll_radians_ &&
-        size >= min_roll_radians_) {
-      descriptor.upright_angle = roll.radians;
-    }
+  const bool compensate = descriptor.upright && max_roll_radians_ > 0;
+  const bool second_view = descriptor.upright && rolled_view_radians_ > 0;
+  CameraRoll roll;
+  if (compensate || second_view) roll = EstimateCameraRoll(gray);
+  const bool roll_known = roll.strength >= min_roll_strength_ &&
+                          std::fabs(roll.radians) >= min_roll_radians_ && roll.radians != 0;
+  if (compensate && roll_known && std::fabs(roll.radians) <= max_roll_radians_) {
+    descriptor.upright_angle = roll.radians;
   }
   features.descriptors = DescribeSurf(image, features.keypoints, descriptor);
+  if (second_view && roll_known && descriptor.upright_angle == 0 &&
+      std::fabs(roll.radians) <= rolled_view_radians_) {
+    SurfDescriptorOptions rolled = descriptor;
+    rolled.upright_angle = roll.radians;
+    std::vector<cv::KeyPoint> keypoints = features.keypoints;  // their angles stay upright's
+    features.rolled_descriptors = DescribeSurf(image, keypoints, rolled);
+  }
   return features;
 }
 

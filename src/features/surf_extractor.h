@@ -24,6 +24,7 @@ class SurfExtractor : public FeatureExtractor {
   double max_roll_radians_ = 0;  // surf.max_roll_degrees
   double min_roll_strength_ = 0;
   double min_roll_radians_ = 0;
+  double rolled_view_radians_ = 0;  // surf.rolled_view_degrees
 };
 
 }  // namespace memloop
