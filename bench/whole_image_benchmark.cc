@@ -13,11 +13,16 @@
 namespace memloop {
 namespace {
 
-void BM_WholeImageDescribe(benchmark::State& state) {
+// A generated 16:9 gray image `width` pixels wide.
+cv::Mat GrayImage(int64_t width) {
   SyntheticRouteOptions options;
-  options.image_width = static_cast<int>(state.range(0));
+  options.image_width = static_cast<int>(width);
   options.image_height = options.image_width * 9 / 16;
-  const cv::Mat gray = SyntheticRoute(options).RenderGray(3);
+  return SyntheticRoute(options).RenderGray(3);
+}
+
+void BM_WholeImageDescribe(benchmark::State& state) {
+  const cv::Mat gray = GrayImage(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(DescribeWholeImage(gray));
 }
 BENCHMARK(BM_WholeImageDescribe)->Arg(320)->Arg(960)->Unit(benchmark::kMicrosecond);
@@ -40,10 +45,7 @@ BENCHMARK(BM_WholeImageScoreWm)->Arg(100)->Arg(500)->Arg(2000)->Unit(benchmark::
 // The camera's roll from an image's edges (camera_roll.h): once per image with the rolled view
 // (surf.rolled_view_degrees, the default) or roll compensation (--preset hand-held).
 void BM_EstimateCameraRoll(benchmark::State& state) {
-  SyntheticRouteOptions options;
-  options.image_width = static_cast<int>(state.range(0));
-  options.image_height = options.image_width * 9 / 16;
-  const cv::Mat gray = SyntheticRoute(options).RenderGray(3);
+  const cv::Mat gray = GrayImage(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(EstimateCameraRoll(gray));
 }
 BENCHMARK(BM_EstimateCameraRoll)->Arg(320)->Arg(960)->Unit(benchmark::kMicrosecond);

@@ -42,11 +42,10 @@ Features SurfExtractor::Extract(const cv::Mat& gray) const {
   if (compensate || second_view) roll = EstimateCameraRoll(gray);
   const bool roll_known = roll.strength >= min_roll_strength_ &&
                           std::fabs(roll.radians) >= min_roll_radians_ && roll.radians != 0;
-  if (compensate && roll_known && std::fabs(roll.radians) <= max_roll_radians_) {
-    descriptor.upright_angle = roll.radians;
-  }
+  const bool compensated = compensate && roll_known && std::fabs(roll.radians) <= max_roll_radians_;
+  if (compensated) descriptor.upright_angle = roll.radians;
   features.descriptors = DescribeSurf(image, features.keypoints, descriptor);
-  if (second_view && roll_known && descriptor.upright_angle == 0 &&
+  if (second_view && roll_known && !compensated &&
       std::fabs(roll.radians) <= rolled_view_radians_) {
     SurfDescriptorOptions rolled = descriptor;
     rolled.upright_angle = roll.radians;
