@@ -66,7 +66,7 @@ TEST(ReadmeTest, RobotDataCommandsRunAsWritten) {
   RunBlock("## Robot data", 5, dir);
   EXPECT_TRUE(Contains(ReadFile(dir.File("out.txt")), "exported "));  // the last command
   EXPECT_TRUE(Contains(ReadFile(dir.File("loops.g2o")), "\nEDGE_SE3:QUAT "));
-  EXPECT_TRUE(Contains(ReadFile(dir.File("again.csv")), ",1\n"));  // session 1's rows
+  EXPECT_TRUE(Contains(ReadFile(dir.File("again.csv")), ",1,0\n"));  // session 1's rows
 }
 
 }  // namespace

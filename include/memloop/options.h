@@ -115,6 +115,14 @@ struct MemoryOptions {
   // transferred for time, since a smaller WM cannot make up for slow features or retrieval
   // (memloop, issue 37). 0: the paper, every iteration over the target transfers.
   double wm_min_time_share = 0.25;
+  // 1 (with T_time on): an image's features are quantized strongest first, and quantization stops
+  // between chunks of the search once the iteration, with what its later steps are expected to
+  // take, would pass the time target; the weaker features left are dropped (memloop, issue 37:
+  // the kd-forest search is most of an iteration, and takes twice as long when the search's
+  // second thread finds the other core busy). 0: every feature, whatever the time (the paper).
+  int signature_within_time = 1;
+  // Of an image's features, at least this share (the strongest) is quantized, however late.
+  double signature_min_share = 0.5;
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).
@@ -149,6 +157,19 @@ struct MemoryOptions {
   // (memloop, issue 9: a row not in the OS's cache took 50-150 ms to read inside an iteration).
   // 0: read when retrieved, whatever it takes (the paper).
   int retrieval_read_ahead = 1;
+  // 1 (with the read-ahead): a location is readied for retrieval over as many iterations as it
+  // takes: the words of it that left the dictionary are re-matched a chunk of the kd-forest
+  // search at a time, while the iteration has room, and it comes back once they all are (memloop,
+  // issue 37: re-matching a location at once costs about an image's quantization, which a tight
+  // T_time rarely leaves, so retrievals were deferred and revisits lost). 0: a location is
+  // retrieved whole in one iteration, or deferred.
+  int retrieval_over_iterations = 1;
+  // Leaves the kd-forest search visits when re-matching a retrieved location's words (III-E);
+  // 0: dictionary.kd_checks, as for an image's features (the paper). A word's twin (the same
+  // feature seen again) is close to it and found early: 8 makes re-matching 4x cheaper, which a
+  // tight T_time needs (issue 37: revisits found at 2x the median iteration ~25% -> ~45%), and
+  // finds as many loops with T_time off (docs/design.md, "Retrieval under a tight T_time").
+  int retrieval_kd_checks = 8;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose

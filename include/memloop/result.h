@@ -51,6 +51,9 @@ struct Result {
   // STM location merged into this one by Rehearsal, kNoLocation when none.
   LocationId rehearsal_merged_id = kNoLocation;
   int feature_count = 0;
+  // Of those, the weakest that were not quantized for lack of time (memory.signature_within_time):
+  // the signature holds the others.
+  int features_skipped = 0;
   int word_count = 0;  // words of the signature
 
   // Highest neighbour-summed hypothesis (III-D), accepted or not. kNoLocation when WM is empty.

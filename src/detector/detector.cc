@@ -16,9 +16,10 @@
 #include "detector/memory.h"
 #include "detector/neighbourhood_cache.h"
 #include "detector/rehearsal.h"
-#include "detector/retrieval.h"
+#include "detector/retrieval_step.h"
 #include "detector/rolled_view.h"
 #include "detector/session_numbering.h"
+#include "detector/signature_budget.h"
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
 #include "detector/view_roll.h"
@@ -30,7 +31,6 @@
 #include "memloop/feature_extractor.h"
 #include "memloop/params.h"
 #include "storage/long_term_memory.h"
-#include "storage/ltm_read_ahead.h"
 #include "vocabulary/appearance_index.h"
 
 namespace memloop {
@@ -44,7 +44,7 @@ class Detector::Impl {
         memory_(extractor_->Kind(), extractor_->DescriptorDim(), DictionaryOptionsOf(options_)),
         filter_(options.filter),
         ltm_(database_path, FileMode(mode)),
-        read_ahead_(MakeReadAhead(options_, ltm_)),
+        retrieval_(options_.memory, options_.filter.neighbour_range, memory_, ltm_),
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
     if (localizing_ || mode != MapMode::kNew) Resume(database_path);  // nothing written before
@@ -262,13 +262,14 @@ class Detector::Impl {
   // With retrieval by appearance, `appearance` receives the image's description.
   Signature MatchImage(const cv::Mat& gray, Result& result, Appearance* appearance) {
     ScopedTimer timer(&result.times.signature_ms);
-    const Features features = extractor_->Extract(gray);
+    Features features = ExtractFeatures(gray);
     result.feature_count = static_cast<int>(features.keypoints.size());
+    Signature signature =
+        signature_budget_.Match(features, memory_.dictionary(), &result.features_skipped);
     if (appearance_) {
       *appearance = appearance_->Describe(std::vector<WordId>(features.keypoints.size(), kNoWord),
                                           features.descriptors);
     }
-    Signature signature = MatchSignature(features, memory_.dictionary());
     signature.whole_image = WholeImageOf(gray);
     rolled_view_.Observe(features, memory_.dictionary());
     return signature;
@@ -280,10 +281,12 @@ class Detector::Impl {
 
   LocationId CreateLocation(const cv::Mat& gray, Result& result) {
     ScopedTimer timer(&result.times.signature_ms);
-    const Features features = extractor_->Extract(gray);
+    Features features = ExtractFeatures(gray);
+    result.feature_count = static_cast<int>(features.keypoints.size());
     int new_words = 0;
     const WordId first_new_word = memory_.dictionary().next_word_id();
-    Signature signature = CreateSignature(features, memory_.dictionary(), &new_words);
+    Signature signature = signature_budget_.Create(features, memory_.dictionary(), &new_words,
+                                                   &result.features_skipped);
     rolled_view_.Observe(features, memory_.dictionary());  // after the words it may match
     signature.image = result.image_index;
     signature.whole_image = WholeImageOf(gray);
@@ -291,12 +294,18 @@ class Detector::Impl {
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
     counters_.newest_location = location.id;
-    result.feature_count = static_cast<int>(features.keypoints.size());
     if (appearance_) {
       ltm_.StoreAppearance(location.id, appearance);
       appearance_->Add(location.id, std::move(appearance));
     }
     return location.id;
+  }
+
+  // III-A's features. Meanwhile, staged retrievals' words are searched on another thread
+  // (retrieval_staging.h): the extraction does not touch the dictionary.
+  Features ExtractFeatures(const cv::Mat& gray) {
+    const auto searching = retrieval_.SearchBesideExtraction();
+    return extractor_->Extract(gray);
   }
 
   Appearance Describe(const Signature& signature, const cv::Mat& descriptors,
@@ -470,31 +479,15 @@ class Detector::Impl {
   // With T_time on, each only if it still fits (memory.retrieval_within_time).
   void RetrieveFromLtm(const Stopwatch& iteration, const Hypothesis& hypothesis,
                        const Appearance* appearance, Result& result) {
+    signature_budget_.QuantizationOver();
     ScopedTimer timer(&result.times.retrieval_ms);
-    const int range = options_.filter.neighbour_range;
-    const StepDeadline deadline = options_.memory.retrieval_within_time
-                                      ? DeadlineOf(iteration, &retrieval_cost_)
-                                      : StepDeadline();
     const bool above_noise = hypothesis.value >= options_.memory.retrieval_min_value;
-    RetrievalOutcome outcome =
-        Retrieve(above_noise ? hypothesis.id : kNoLocation, options_.memory.max_retrieved, range,
-                 memory_, ltm_, deadline, read_ahead_.get());
-    std::vector<LocationId> retrieved = outcome.retrieved;
-    result.retrievals_deferred = outcome.deferred;
-    result.retrievals_unread = outcome.unread;
-    if (appearance_ && appearance != nullptr) {
-      const AppearanceMatch match = appearance_->Best(*appearance);
-      result.appearance_match_id = match.id;
-      result.appearance_match_z = match.z;
-      if (match.id != kNoLocation && match.z >= options_.memory.appearance_min_z) {
-        outcome = Retrieve(match.id, options_.memory.max_retrieved, range, memory_, ltm_, deadline,
-                           read_ahead_.get());
-        retrieved.insert(retrieved.end(), outcome.retrieved.begin(), outcome.retrieved.end());
-        result.retrievals_deferred += outcome.deferred;
-        result.retrievals_unread += outcome.unread;
-      }
-    }
-    if (result.retrievals_deferred > 0) retrieval_cost_.Deferred();
+    // Room is left for the transfer after it, most of whose work the paper's rule makes whatever
+    // the time (words transferred = words added).
+    const double transfer_ms = transfer_step_cost_.expected_ms();
+    const std::vector<LocationId> retrieved = retrieval_.Retrieve(
+        above_noise ? hypothesis.id : kNoLocation, MatchByAppearance(appearance, result),
+        [&](StepCost* cost) { return DeadlineOf(iteration, cost, transfer_ms); }, result);
     for (LocationId id : retrieved) {
       filter_.Add(id);  // a new state, probability 0
       if (appearance_) appearance_->Leave(id);
@@ -503,13 +496,24 @@ class Detector::Impl {
     retrieval_immunity_.Retrieved(retrieved, counters_.images_processed);
   }
 
+  // Retrieval by appearance: the LTM location that looks most like the image, when it stands out
+  // (memory.appearance_min_z); kNoLocation otherwise.
+  LocationId MatchByAppearance(const Appearance* appearance, Result& result) const {
+    if (!appearance_ || appearance == nullptr) return kNoLocation;
+    const AppearanceMatch match = appearance_->Best(*appearance);
+    result.appearance_match_id = match.id;
+    result.appearance_match_z = match.z;
+    return match.z >= options_.memory.appearance_min_z ? match.id : kNoLocation;
+  }
+
   // T_time on: a retrieval or a transfer must end under T_time. Off: no deadline. (Ending
   // retrievals by the time target instead halved them and left as many iterations over T_time:
   // 3.2% vs 2.9%, 6,000 images at 50 ms.)
-  StepDeadline DeadlineOf(const Stopwatch& iteration, StepCost* cost) const {
+  // `reserve_ms`: kept for the steps after it.
+  StepDeadline DeadlineOf(const Stopwatch& iteration, StepCost* cost, double reserve_ms = 0) const {
     const double limit = options_.memory.time_limit_ms;
     if (limit <= 0) return StepDeadline();
-    return StepDeadline([&iteration] { return iteration.ElapsedMs(); }, limit, cost);
+    return StepDeadline([&iteration] { return iteration.ElapsedMs(); }, limit - reserve_ms, cost);
   }
 
   void TransferToLtm(const Stopwatch& iteration, const Hypothesis& hypothesis, Result& result) {
@@ -517,9 +521,11 @@ class Detector::Impl {
     const TransferTrigger trigger = MakeTransferTrigger(
         options_.memory, iteration.ElapsedMs(), result.times.WmStagesMs(),
         static_cast<int>(memory_.working_memory().size()), dictionary_size_at_start_);
+    const Stopwatch stopwatch;
     result.transferred_ids =
         Transfer(trigger, retrieval_immunity_.Immune(memory_), KeptLast(hypothesis), memory_,
                  editor_, DeadlineOf(iteration, &transfer_cost_));
+    transfer_step_cost_.Record(stopwatch.ElapsedMs());
   }
 
   // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
@@ -556,14 +562,17 @@ class Detector::Impl {
   double iteration_cpu_start_ms_ = 0;  // ThreadCpuMs() at the start of the iteration
   Stopwatch iteration_;                // since the start of the current image
   bool checkpoint_due_ = false;        // the last image's checkpoint, written by the next
-  StepCost retrieval_cost_;            // one retrieval's expected time (T_time on)
   StepCost transfer_cost_;             // one transfer's
+  StepCost transfer_step_cost_;        // the whole transfer step's
+  // III-A within the time target: strongest features first (signature_budget.h).
+  SignatureBudget signature_budget_{options_.memory, options_.dictionary.search_threads,
+                                    [this] { return iteration_.ElapsedMs(); }};
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   NeighbourhoodCache wm_neighbourhoods_;  // the filter's, of memory_
   BayesFilter filter_;
   LongTermMemory ltm_;
-  std::unique_ptr<LtmReadAhead> read_ahead_;     // null with T_time off
+  RetrievalStep retrieval_;                      // III-E
   std::unique_ptr<AppearanceIndex> appearance_;  // null without retrieval by appearance
   MapEditor editor_;
   DetectorCounters counters_;

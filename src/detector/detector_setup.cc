@@ -48,16 +48,6 @@ DictionaryOptions DictionaryOptionsOf(const Options& options) {
   return dictionary;
 }
 
-// Under T_time, retrieval's reads of the map file are made ahead by a thread of their own
-// (ltm_read_ahead.h); with T_time off every read is waited for, as a repeatable run needs.
-std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const LongTermMemory& ltm) {
-  const MemoryOptions& memory = options.memory;
-  if (memory.time_limit_ms <= 0 || !memory.retrieval_within_time || !memory.retrieval_read_ahead) {
-    return nullptr;
-  }
-  return std::make_unique<LtmReadAhead>(ltm);
-}
-
 std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,
                                                      const FeatureExtractor& extractor) {
   if (!options.memory.appearance_retrieval) return nullptr;

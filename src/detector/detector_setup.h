@@ -8,7 +8,6 @@
 #include "memloop/feature_extractor.h"
 #include "memloop/options.h"
 #include "storage/long_term_memory.h"
-#include "storage/ltm_read_ahead.h"
 #include "vocabulary/appearance_index.h"
 
 namespace memloop {
@@ -25,9 +24,6 @@ FilterOptions SelectionOptions(const Options& options);
 
 // The dictionary's options: a background rebuild is swapped in when ready with T_time on.
 DictionaryOptions DictionaryOptionsOf(const Options& options);
-
-// The read-ahead thread of retrieval under T_time, or null.
-std::unique_ptr<LtmReadAhead> MakeReadAhead(const Options& options, const LongTermMemory& ltm);
 
 // The index of retrieval by appearance (memory.appearance_retrieval), or null.
 std::unique_ptr<AppearanceIndex> MakeAppearanceIndex(const Options& options,

@@ -63,8 +63,8 @@ struct RotationOnly {
   int inliers = 0;
 };
 RotationOnly EstimateRotationOnly(const std::vector<cv::Point2f>& query,
-                                  const std::vector<cv::Point2f>& match,
-                                  const CameraIntrinsics& k, double ransac_pixels) {
+                                  const std::vector<cv::Point2f>& match, const CameraIntrinsics& k,
+                                  double ransac_pixels) {
   std::vector<cv::Vec3d> from, to;
   for (size_t i = 0; i < query.size(); ++i) {
     from.push_back(Bearing(query[i], k));

@@ -2,9 +2,9 @@
 // matrix's inliers and, given the intrinsics, the relative pose (essential matrix).
 #pragma once
 
+#include "detector/location.h"
 #include "memloop/loop_geometry.h"
 #include "memloop/options.h"
-#include "detector/location.h"
 #include "vocabulary/signature.h"
 
 namespace memloop {
@@ -12,8 +12,7 @@ namespace memloop {
 // The image a location's keypoints were seen in: its signature's (Rehearsal gives a newer
 // location an older one's signature), else, in maps made before it was recorded, its first.
 inline ImageIndex ViewOf(const Location& location) {
-  return location.signature.image != kNoImage ? location.signature.image
-                                              : location.images.front();
+  return location.signature.image != kNoImage ? location.signature.image : location.images.front();
 }
 
 // RANSAC is seeded: the same views give the same geometry.

@@ -113,6 +113,10 @@ std::vector<Parameter> MakeRegistry() {
         .Help("Over the time target, transfer enough WM locations for the next iteration to fit, at most this fraction of WM per iteration (0 = the paper: words transferred = words added)"),
     Param("memory.wm_min_time_share", MEMLOOP_FIELD(memory.wm_min_time_share)).Range(0, 1)
         .Help("Over the time target, WM's stages (likelihood, filter, selection) keep what the other stages leave of the target and at least this share of it; only WM beyond is transferred for time (0 = the paper: every iteration over the target transfers)"),
+    Param("memory.signature_within_time", MEMLOOP_FIELD(memory.signature_within_time)).Flag()
+        .Help("true, with T_time on: an image's features are quantized strongest first until the iteration, with what its later steps are expected to take, would pass the time target; the weaker ones left are dropped (false = every feature whatever the time, the paper)"),
+    Param("memory.signature_min_share", MEMLOOP_FIELD(memory.signature_min_share)).Range(0, 1)
+        .Help("With memory.signature_within_time: of an image's features, at least this share (the strongest) is quantized however late the iteration"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
@@ -127,6 +131,10 @@ std::vector<Parameter> MakeRegistry() {
         .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
     Param("memory.retrieval_read_ahead", MEMLOOP_FIELD(memory.retrieval_read_ahead)).Flag()
         .Help("true, with T_time on and memory.retrieval_within_time: a thread reads the map-file rows of the locations to retrieve and hands them over (the detector's thread does not read the file), and one is retrieved once they are read, waited for only as long as the iteration allows (false = read when retrieved, whatever the disk takes, the paper)"),
+    Param("memory.retrieval_over_iterations", MEMLOOP_FIELD(memory.retrieval_over_iterations)).Flag()
+        .Help("true, with the read-ahead: a location's words that left the dictionary are re-matched a chunk at a time while iterations have room, and it is retrieved once they all are (false = retrieved whole in one iteration, or deferred)"),
+    Param("memory.retrieval_kd_checks", MEMLOOP_FIELD(memory.retrieval_kd_checks)).Unit("leaves")
+        .Range(0, 100000).Help("Leaves the kd-forest search visits when re-matching a retrieved location's words that left the dictionary (0 = dictionary.kd_checks)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
     Param("memory.checkpoint_max_skipped", MEMLOOP_FIELD(memory.checkpoint_max_skipped)).Unit("images")

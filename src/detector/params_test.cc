@@ -72,11 +72,13 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           "filter.ltm_neighbour_check", "memory.time_target", "memory.transfer_max_fraction",
           "sift.upright", "orb.upright", "memory.appearance_retrieval",
           "memory.retrieval_within_time", "memory.retrieval_read_ahead",
-          "memory.max_dictionary_words", "memory.retrieval_min_value", "features.min_image_side",
+          "memory.signature_within_time", "memory.retrieval_over_iterations",
+          "memory.retrieval_kd_checks", "memory.max_dictionary_words", "memory.retrieval_min_value",
+          "features.min_image_side",
           // The paper's 2011 code where its text is silent; memloop's measured choices.
-          "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees", "dictionary.nndr_ratio",
-          "dictionary.kd_checks", "memory.rehearsal_most_similar", "filter.loop_ratio",
-          "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
+          "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees",
+          "dictionary.nndr_ratio", "dictionary.kd_checks", "memory.rehearsal_most_similar",
+          "filter.loop_ratio", "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
           "memory.retrieved_immune_iterations", "memory.wm_min_time_share"}));
 }
 

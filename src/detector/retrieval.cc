@@ -1,38 +1,74 @@
 #include "detector/retrieval.h"
 
+#include <algorithm>
 #include <set>
 
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
+#include "vocabulary/word_index.h"
 
 namespace memloop {
-
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
-                              const PrefetchedRows* rows) {
+                              const PrefetchedRows* rows, const WordMatches* searched, int checks) {
   RetrievalOutcome outcome;
   std::vector<WordId> missing;
   for (const auto& [word, count] : location.signature.Histogram()) {
     if (!dictionary.Contains(word)) missing.push_back(word);
   }
   if (missing.empty()) return outcome;
-  cv::Mat descriptors(static_cast<int>(missing.size()), dictionary.descriptor_dim(),
-                      dictionary.descriptor_cv_type());
-  const size_t row_bytes = descriptors.cols * descriptors.elemSize();
+  std::vector<WordId> matches(missing.size(), kNoWord);
+  std::vector<size_t> unanswered;  // rows of `missing` to search now
+  std::vector<WordId> to_search;
+  std::vector<size_t> recheck;  // rows answered "none": compared with the words joined since
+  std::vector<WordId> recheck_words;
+  std::vector<std::pair<float, float>> recheck_found;
+  long long recheck_mark = dictionary.JoinMark();
   for (size_t row = 0; row < missing.size(); ++row) {
-    const auto descriptor = ltm.LoadWord(missing[row], rows);
-    if (!descriptor || descriptor->size() != row_bytes) {
-      throw DatabaseError(ltm.path(), "word " + std::to_string(missing[row]) + " of location " +
-                                          std::to_string(location.id) + " is missing or damaged");
+    const auto answer =
+        searched != nullptr ? searched->find(missing[row]) : WordMatches::const_iterator();
+    if (searched != nullptr && answer != searched->end()) {
+      const WordAnswer& found = answer->second;
+      if (found.match != kNoWord && dictionary.Contains(found.match)) {
+        matches[row] = found.match;
+        continue;
+      }
+      if (found.match == kNoWord) {
+        recheck.push_back(row);
+        recheck_words.push_back(missing[row]);
+        recheck_found.emplace_back(found.nearest, found.second);
+        recheck_mark = std::min(recheck_mark, found.mark);
+        continue;
+      }
     }
-    std::copy(descriptor->begin(), descriptor->end(), descriptors.ptr<unsigned char>(row));
+    unanswered.push_back(row);
+    to_search.push_back(missing[row]);
   }
-  const std::vector<WordId> matches = dictionary.Match(descriptors);
+  if (!recheck.empty()) {
+    const std::optional<std::vector<WordId>> since = dictionary.MatchSince(
+        LoadWordDescriptors(recheck_words, dictionary, ltm, rows, location.id, /*required=*/true),
+        recheck_found, recheck_mark);
+    for (size_t i = 0; i < recheck.size(); ++i) {
+      if (since) {
+        matches[recheck[i]] = (*since)[i];
+      } else {  // forgotten what joined since: searched again
+        unanswered.push_back(recheck[i]);
+        to_search.push_back(recheck_words[i]);
+      }
+    }
+  }
+  if (!to_search.empty()) {
+    SearchOptions search;
+    search.checks = checks;
+    const std::vector<WordId> found = dictionary.Match(
+        LoadWordDescriptors(to_search, dictionary, ltm, rows, location.id, /*required=*/true),
+        search);
+    for (size_t i = 0; i < found.size(); ++i) matches[unanswered[i]] = found[i];
+  }
   std::vector<WordId> unmatched_ids;
   cv::Mat unmatched_descriptors;
   for (size_t row = 0; row < missing.size(); ++row) {
     if (matches[row] == kNoWord) {
       unmatched_ids.push_back(missing[row]);
-      unmatched_descriptors.push_back(descriptors.row(static_cast<int>(row)));
       continue;
     }
     for (WordId& word : location.signature.words) {
@@ -41,6 +77,10 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
     ltm.ReplaceWord(missing[row], matches[row]);
     ++outcome.words_replaced;
   }
+  if (!unmatched_ids.empty()) {
+    unmatched_descriptors =
+        LoadWordDescriptors(unmatched_ids, dictionary, ltm, rows, location.id, /*required=*/true);
+  }
   dictionary.Add(unmatched_ids, unmatched_descriptors);
   // Other LTM locations may hold these words too: keep them in LTM when they leave again.
   for (WordId word : unmatched_ids) dictionary.MarkReferencedByLtm(word);
@@ -48,9 +88,73 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
   return outcome;
 }
 
+namespace {
+
+// The rows of `id` read ahead, current, waited for as long as `deadline` allows; nullopt when not
+// read in time.
+std::optional<PrefetchedRows> ReadAhead(LocationId id, LtmReadAhead& read_ahead,
+                                        const LongTermMemory& ltm, const StepDeadline& deadline) {
+  std::optional<PrefetchedRows> rows = read_ahead.WaitRead(id, deadline.SlackMs());
+  // Read long ago (kept while other locations were retrieved): read again on its thread.
+  if (rows && !ltm.Current(*rows)) rows = read_ahead.WaitRead(id, deadline.SlackMs());
+  return rows;
+}
+
+// One location of LTM: retrieved into `memory` (or deferred, or staged for later), `outcome`
+// counting it. `wanted`: this iteration asks for it (staged, it is then searched first beside the
+// next extraction); otherwise it is only carried on (ContinueStaged).
+void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const RetrievalTime& time,
+                 bool wanted, RetrievalOutcome& outcome) {
+  if (!time.location.Fits()) {
+    ++outcome.deferred;
+    return;
+  }
+  LtmReadAhead* read_ahead = time.read_ahead;
+  RetrievalStaging* staging = read_ahead != nullptr ? time.staging : nullptr;
+  RetrievalStaging::Staged* staged = staging != nullptr ? staging->Find(id) : nullptr;
+  std::optional<PrefetchedRows> rows;
+  if (read_ahead != nullptr && (staged == nullptr || !ltm.Current(staged->rows))) {
+    rows = ReadAhead(id, *read_ahead, ltm, time.location);
+    if (!rows) {
+      ++outcome.deferred;
+      ++outcome.unread;
+      return;
+    }
+    if (staged != nullptr) {
+      staged->rows = std::move(*rows);  // its answers hold: a word's descriptor never changes
+    } else if (staging != nullptr) {
+      staged = &staging->Start(id, std::move(*rows));
+    }
+  }
+  if (staged != nullptr) {
+    if (wanted) staging->Want(*staged, time.priority);
+    if (!SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
+                           time.location.ExpectedMs(), time.checks) ||
+        !time.location.Fits()) {
+      ++outcome.deferred;
+      return;
+    }
+  }
+  const PrefetchedRows* from = staged != nullptr ? &staged->rows : rows ? &*rows : nullptr;
+  const Stopwatch stopwatch;
+  std::optional<Location> location = from ? ltm.Retrieve(id, *from) : ltm.Retrieve(id);
+  const RetrievalOutcome words =
+      RematchWords(*location, memory.dictionary(), ltm, from,
+                   staged != nullptr ? &staged->matches : nullptr, time.checks);
+  outcome.words_added += words.words_added;
+  outcome.words_replaced += words.words_replaced;
+  // A word now in the dictionary may also be held by other LTM locations.
+  for (WordId word : location->signature.words) memory.dictionary().MarkReferencedByLtm(word);
+  memory.Restore(std::move(*location));
+  outcome.retrieved.push_back(id);
+  time.location.Record(stopwatch.ElapsedMs());
+  if (staged != nullptr) staging->Erase(id);
+}
+
+}  // namespace
+
 RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memory& memory,
-                          LongTermMemory& ltm, const StepDeadline& deadline,
-                          LtmReadAhead* read_ahead) {
+                          LongTermMemory& ltm, const RetrievalTime& time) {
   RetrievalOutcome outcome;
   if (highest == kNoLocation || max_retrieved <= 0) return outcome;
   const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
@@ -60,36 +164,31 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
   for (const auto& [id, distance] : neighbourhood) {
     if (ltm.Contains(id)) in_ltm.push_back(id);
   }
-  if (read_ahead != nullptr) read_ahead->Request(in_ltm);
+  if (time.read_ahead != nullptr) time.read_ahead->Request(in_ltm);
   for (LocationId id : in_ltm) {
     if (static_cast<int>(outcome.retrieved.size()) + outcome.deferred >= max_retrieved) break;
-    if (!deadline.Fits()) {
-      ++outcome.deferred;
+    RetrieveOne(id, memory, ltm, time, /*wanted=*/true, outcome);
+  }
+  return outcome;
+}
+
+RetrievalOutcome ContinueStaged(int max_retrieved, Memory& memory, LongTermMemory& ltm,
+                                const RetrievalTime& time) {
+  RetrievalOutcome outcome;
+  if (time.staging == nullptr || time.read_ahead == nullptr) return outcome;
+  const long long now = time.staging->iteration();
+  for (const auto& [id, staged] : time.staging->ByRecency()) {
+    if (static_cast<int>(outcome.retrieved.size()) >= max_retrieved) break;
+    if (staged->touched == now) continue;  // wanted this iteration: done above
+    if (now - staged->touched > RetrievalStaging::kCarryOnFor) break;  // older ones follow
+    if (!ltm.Contains(id)) {  // retrieved otherwise meanwhile
+      time.staging->Erase(id);
       continue;
     }
-    std::optional<PrefetchedRows> rows;
-    if (read_ahead != nullptr) {
-      rows = read_ahead->WaitRead(id, deadline.SlackMs());
-      // Read long ago (kept while other locations were retrieved): read again on its thread.
-      if (rows && !ltm.Current(*rows)) rows = read_ahead->WaitRead(id, deadline.SlackMs());
-      if (!rows) {
-        ++outcome.deferred;
-        ++outcome.unread;
-        continue;
-      }
-    }
-    const Stopwatch stopwatch;
-    std::optional<Location> location = rows ? ltm.Retrieve(id, *rows) : ltm.Retrieve(id);
-    const RetrievalOutcome words =
-        RematchWords(*location, memory.dictionary(), ltm, rows ? &*rows : nullptr);
-    outcome.words_added += words.words_added;
-    outcome.words_replaced += words.words_replaced;
-    // A word now in the dictionary may also be held by other LTM locations.
-    for (WordId word : location->signature.words) memory.dictionary().MarkReferencedByLtm(word);
-    memory.Restore(std::move(*location));
-    outcome.retrieved.push_back(id);
-    deadline.Record(stopwatch.ElapsedMs());
+    RetrieveOne(id, memory, ltm, time, /*wanted=*/false, outcome);
   }
+  outcome.deferred = 0;  // what was not carried on stays staged, as it was
+  outcome.unread = 0;
   return outcome;
 }
 

@@ -69,14 +69,14 @@ TEST_F(RetrievalTest, RenamesAreSeenBeforeTheyAreWritten) {
 TEST_F(RetrievalTest, RetrievalsThatDoNotFitAreDeferred) {
   StepCost cost;
   const RetrievalOutcome late =
-      Retrieve(ids_[0], 2, 4, memory_, *ltm_, StepDeadline([] { return 45.0; }, 40, &cost));
+      Retrieve(ids_[0], 2, 4, memory_, *ltm_, {StepDeadline([] { return 45.0; }, 40, &cost)});
   EXPECT_TRUE(late.retrieved.empty());
   EXPECT_EQ(late.deferred, 2);  // the two it would have retrieved
   EXPECT_EQ(ltm_->size(), 3u);
   EXPECT_FALSE(cost.measured());
   // With time left, the same two come back, and their time is measured.
   const RetrievalOutcome in_time =
-      Retrieve(ids_[0], 2, 4, memory_, *ltm_, StepDeadline([] { return 0.0; }, 1e9, &cost));
+      Retrieve(ids_[0], 2, 4, memory_, *ltm_, {StepDeadline([] { return 0.0; }, 1e9, &cost)});
   EXPECT_EQ(in_time.retrieved, (std::vector<LocationId>{ids_[1], ids_[2]}));
   EXPECT_EQ(in_time.deferred, 0);
   EXPECT_TRUE(cost.measured());
@@ -89,15 +89,17 @@ TEST_F(RetrievalTest, LocationsWhoseRowsAreNotReadYetAreDeferred) {
   LtmReadAhead read_ahead(*ltm_);
   read_ahead.SetHeld(true);  // a disk that does not answer within the iteration
   StepCost cost;
-  const StepDeadline deadline([] { return 0.0; }, 1e9, &cost);
-  const RetrievalOutcome unread = Retrieve(ids_[0], 2, 4, memory_, *ltm_, deadline, &read_ahead);
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &cost);
+  time.read_ahead = &read_ahead;
+  const RetrievalOutcome unread = Retrieve(ids_[0], 2, 4, memory_, *ltm_, time);
   EXPECT_TRUE(unread.retrieved.empty());
   EXPECT_EQ(unread.deferred, 2);
   EXPECT_EQ(unread.unread, 2);
   EXPECT_EQ(read_ahead.queued(), 3u);  // the whole neighbourhood in LTM, L4 too
   EXPECT_EQ(ltm_->size(), 3u);
   read_ahead.SetHeld(false);
-  const RetrievalOutcome read = Retrieve(ids_[0], 2, 4, memory_, *ltm_, deadline, &read_ahead);
+  const RetrievalOutcome read = Retrieve(ids_[0], 2, 4, memory_, *ltm_, time);
   EXPECT_EQ(read.retrieved, (std::vector<LocationId>{ids_[1], ids_[2]}));
   EXPECT_EQ(read.deferred, 0);
 }

@@ -25,9 +25,9 @@ void StepCost::Deferred() {
   ++deferred_in_a_row_;
 }
 
-bool StepDeadline::Fits() const {
+bool StepDeadline::Fits(double then_ms) const {
   if (!elapsed_ms_ || deadline_ms_ <= 0) return true;
-  return elapsed_ms_() + ExpectedMs() <= deadline_ms_;
+  return elapsed_ms_() + ExpectedMs() + then_ms <= deadline_ms_;
 }
 
 double StepDeadline::SlackMs() const {

@@ -42,15 +42,15 @@ class StepDeadline {
   StepDeadline(std::function<double()> elapsed_ms, double deadline_ms, StepCost* cost)
       : elapsed_ms_(std::move(elapsed_ms)), deadline_ms_(deadline_ms), cost_(cost) {}
 
-  bool Fits() const;  // elapsed + expected <= deadline
+  // elapsed + expected (+ `then_ms`, what must still fit after the step) <= deadline.
+  bool Fits(double then_ms = 0) const;
   // How long the step may wait before it starts and still fit: deadline - elapsed - expected
   // (infinity without a deadline, 0 at the least).
   double SlackMs() const;
   void Record(double ms) const;
+  double ExpectedMs() const;  // the step's expected time, 0 when a probe is due (or no cost)
 
  private:
-  double ExpectedMs() const;  // the step's expected time, 0 when a probe is due
-
   std::function<double()> elapsed_ms_;
   double deadline_ms_ = 0;
   StepCost* cost_ = nullptr;

@@ -159,10 +159,10 @@ TEST(LocationsOverTimeTest, WmKeepsItsShareOfTheTargetWhenTheRestIsTheCost) {
   EXPECT_DOUBLE_EQ(WmTimeBudget(90, 40, 75, 0.25), 25);
   EXPECT_DOUBLE_EQ(WmTimeBudget(90, 10, 75, 0.25), 18.75);
   EXPECT_DOUBLE_EQ(WmTimeBudget(90, 10, 75, 0), 0);  // the rest alone is over the target
-  EXPECT_TRUE(WmIsTheCost(90, 40, 75, 0.25));   // 40 > 25
-  EXPECT_FALSE(WmIsTheCost(90, 10, 75, 0.25));  // 10 <= 18.75: features or retrieval are slow
-  EXPECT_TRUE(WmIsTheCost(90, 10, 75, 0));      // the paper: any iteration over the target
-  EXPECT_TRUE(WmIsTheCost(100, 30, 75, 0.25));  // rest 70: budget max(5, 18.75), 30 > 18.75
+  EXPECT_TRUE(WmIsTheCost(90, 40, 75, 0.25));        // 40 > 25
+  EXPECT_FALSE(WmIsTheCost(90, 10, 75, 0.25));       // 10 <= 18.75: features or retrieval are slow
+  EXPECT_TRUE(WmIsTheCost(90, 10, 75, 0));           // the paper: any iteration over the target
+  EXPECT_TRUE(WmIsTheCost(100, 30, 75, 0.25));       // rest 70: budget max(5, 18.75), 30 > 18.75
   // 1000 locations, WM's stages 30 ms scaled to 18.75: 375 over, capped at 2% = 20 or 50% = 375.
   EXPECT_EQ(LocationsOverTime(100, 30, 75, 1000, 0.02, 0.25), 20);
   EXPECT_EQ(LocationsOverTime(100, 30, 75, 1000, 0.5, 0.25), 375);

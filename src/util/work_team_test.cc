@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <numeric>
 #include <set>
@@ -59,6 +60,42 @@ TEST(WorkTeamTest, HelperRunsChunksBesideTheCaller) {
   });
   EXPECT_TRUE(met);
   EXPECT_EQ(ids.size(), 2u);
+}
+
+// With a gate, chunks are taken while it says so: the items done are exactly the prefix the call
+// returns, whatever the number of threads (taken 0, 16, 32, 48 < 50: 64 items), and the first
+// chunk is taken whatever the gate says. A team whose loop was gated runs the next one whole.
+TEST(WorkTeamTest, GateEndsTheLoopAtAPrefix) {
+  for (int threads : {1, 2, 4}) {
+    WorkTeam team(threads);
+    for (size_t count : {40, 64, 200}) {
+      std::vector<int> done(count, 0);
+      std::vector<size_t> asked;  // the gate is called under the team's lock: one at a time
+      const size_t returned = team.Run(
+          count, 16,
+          [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) ++done[i];
+          },
+          [&](size_t taken) {
+            asked.push_back(taken);
+            return taken < 50;
+          });
+      const size_t expected = std::min<size_t>(count, 64);
+      EXPECT_EQ(returned, expected) << threads << " threads, " << count << " items";
+      for (size_t i = 0; i < count; ++i) EXPECT_EQ(done[i], i < expected ? 1 : 0) << i;
+      for (size_t taken : asked) EXPECT_GT(taken, 0u);  // never asked about the first chunk
+    }
+    std::vector<int> done(100, 0);
+    EXPECT_EQ(team.Run(100, 16,
+                       [&](size_t begin, size_t end) {
+                         for (size_t i = begin; i < end; ++i) ++done[i];
+                       }),
+              100u);
+    EXPECT_TRUE(std::all_of(done.begin(), done.end(), [](int n) { return n == 1; }));
+    EXPECT_EQ(team.Run(
+                  100, 16, [](size_t, size_t) {}, [](size_t) { return false; }),
+              16u);
+  }
 }
 
 // A chunk's exception reaches the caller; the team still runs the next loop.

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
+#include <limits>
+#include <opencv2/core.hpp>
 
 #include "memloop/errors.h"
 
@@ -23,26 +26,76 @@ void Dictionary::CheckDescriptors(const cv::Mat& descriptors) const {
   }
 }
 
-std::vector<WordId> Dictionary::Match(const cv::Mat& descriptors) const {
+std::vector<std::array<Neighbour, 2>> Dictionary::Nearest(const cv::Mat& descriptors,
+                                                          const SearchOptions& search) const {
   CheckDescriptors(descriptors);
-  std::vector<WordId> matches(descriptors.rows, kNoWord);
-  const auto neighbours = index_->Search(descriptors);
-  for (int row = 0; row < descriptors.rows; ++row) {
-    const Neighbour& first = neighbours[row][0];
-    const Neighbour& second = neighbours[row][1];
-    if (first.word == kNoWord) continue;
-    const bool passes_ratio =
-        second.word == kNoWord || first.distance < options_.nndr_ratio * second.distance;
-    if (passes_ratio) matches[row] = first.word;
+  return index_->Search(descriptors, search);
+}
+
+WordId Dictionary::MatchOf(const std::array<Neighbour, 2>& nearest) const {
+  const Neighbour& first = nearest[0];
+  const Neighbour& second = nearest[1];
+  if (first.word == kNoWord) return kNoWord;
+  const bool passes_ratio =
+      second.word == kNoWord || first.distance < options_.nndr_ratio * second.distance;
+  return passes_ratio ? first.word : kNoWord;
+}
+
+std::vector<WordId> Dictionary::Match(const cv::Mat& descriptors,
+                                      const SearchOptions& search) const {
+  const auto neighbours = Nearest(descriptors, search);
+  std::vector<WordId> matches(neighbours.size(), kNoWord);
+  for (size_t row = 0; row < neighbours.size(); ++row) matches[row] = MatchOf(neighbours[row]);
+  return matches;
+}
+
+std::optional<std::vector<WordId>> Dictionary::MatchSince(
+    const cv::Mat& descriptors, const std::vector<std::pair<float, float>>& found,
+    long long mark) const {
+  assert(static_cast<size_t>(descriptors.rows) == found.size());
+  const long long remembered_from = join_count_ - static_cast<long long>(joined_.size());
+  if (mark < remembered_from) return std::nullopt;
+  std::vector<WordId> joined;
+  cv::Mat joined_descriptors;
+  for (auto word = joined_.begin() + (mark - remembered_from); word != joined_.end(); ++word) {
+    if (!Contains(*word)) continue;  // left again
+    joined.push_back(*word);
+    joined_descriptors.push_back(Descriptor(*word));
+  }
+  std::vector<WordId> matches(found.size(), kNoWord);
+  if (joined.empty() || descriptors.empty()) return matches;
+  CheckDescriptors(descriptors);
+  cv::Mat distances;
+  cv::Mat nearest;
+  const int k = std::min(2, static_cast<int>(joined.size()));
+  cv::batchDistance(descriptors, joined_descriptors, distances, CV_32F, nearest,
+                    descriptor_kind() == DescriptorKind::kBinary ? cv::NORM_HAMMING : cv::NORM_L2,
+                    k);
+  for (size_t row = 0; row < found.size(); ++row) {
+    const auto [first, second] = found[row];  // the search's, among the words then
+    const float joined_first = distances.at<float>(static_cast<int>(row), 0);
+    if (!(joined_first < first)) continue;  // still the same nearest: still no match
+    const float joined_second =
+        k > 1 ? distances.at<float>(static_cast<int>(row), 1) : std::numeric_limits<float>::max();
+    const float runner_up = std::min(first, joined_second);
+    if (joined_first < options_.nndr_ratio * runner_up) {
+      matches[row] = joined[nearest.at<int>(static_cast<int>(row), 0)];
+    }
   }
   return matches;
 }
 
-std::vector<WordId> Dictionary::Quantize(const cv::Mat& descriptors, int* new_word_count) {
-  std::vector<WordId> words = Match(descriptors);
+std::vector<WordId> Dictionary::Quantize(const cv::Mat& descriptors, int* new_word_count,
+                                         const SearchGate& gate, double* search_ms) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<WordId> words = Match(descriptors, {gate});
+  if (search_ms != nullptr) {
+    *search_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
   std::vector<WordId> new_ids;
   cv::Mat new_descriptors;
-  for (int row = 0; row < descriptors.rows; ++row) {
+  for (int row = 0; row < static_cast<int>(words.size()); ++row) {
     if (words[row] != kNoWord) continue;
     words[row] = next_word_id_;
     new_ids.push_back(next_word_id_++);
@@ -61,7 +114,10 @@ void Dictionary::Add(const std::vector<WordId>& ids, const cv::Mat& descriptors)
     assert(!Contains(id));
     words_[id];
     if (id >= next_word_id_) next_word_id_ = id + 1;
+    joined_.push_back(id);
+    ++join_count_;
   }
+  while (joined_.size() > kJoinedRemembered) joined_.pop_front();
 }
 
 void Dictionary::Remove(WordId id) {

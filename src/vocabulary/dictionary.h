@@ -3,9 +3,13 @@
 // locations that contain it (the inverted index used by the likelihood, eq. 3).
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <deque>
 #include <functional>
 #include <map>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <set>
 #include <unordered_map>
 #include <vector>
@@ -25,12 +29,34 @@ class Dictionary {
   // For each row, the nearest word when it passes the nearest-neighbour distance ratio test
   // (d1 < nndr_ratio * d2, true distances), else kNoWord. A lone word passes. Throws Error when
   // the descriptors are not of the dictionary's kind and size (one map, one feature type).
-  std::vector<WordId> Match(const cv::Mat& descriptors) const;
+  // With a gate (SearchOptions), only the first rows may be matched: the answer has one entry
+  // per row matched.
+  std::vector<WordId> Match(const cv::Mat& descriptors, const SearchOptions& search = {}) const;
+  // The search behind Match: each row's two nearest words, with their distances.
+  std::vector<std::array<Neighbour, 2>> Nearest(const cv::Mat& descriptors,
+                                                const SearchOptions& search = {}) const;
+  // Match's answer for one row of Nearest: the ratio test.
+  WordId MatchOf(const std::array<Neighbour, 2>& nearest) const;
+
+  // Words join the dictionary in order (new ones, and old ones added back): JoinMark() counts
+  // them. For rows whose search (Nearest) was made at `mark`, with the nearest and second
+  // distances it found (infinity for none), Match's answer now, counting the words that joined
+  // since (compared with each row exhaustively; words that left since are not discounted). Nullopt
+  // when the dictionary no longer remembers what joined at `mark` (kJoinedRemembered).
+  long long JoinMark() const { return join_count_; }
+  std::optional<std::vector<WordId>> MatchSince(const cv::Mat& descriptors,
+                                                const std::vector<std::pair<float, float>>& found,
+                                                long long mark) const;
+  static constexpr size_t kJoinedRemembered = size_t{1} << 16;
 
   // Quantization of a new signature: Match(), then every row that matched nothing becomes a
   // new word. New words are added after all rows are matched, so rows of one image never match
-  // each other. `new_word_count` receives how many words were created.
-  std::vector<WordId> Quantize(const cv::Mat& descriptors, int* new_word_count);
+  // each other. `new_word_count` receives how many words were created. With a `gate`
+  // (SearchOptions), the rows the search reached (the first ones); the answer has one word per row
+  // quantized.
+  // `search_ms` receives the search's time (the rest is adding the new words to the forest).
+  std::vector<WordId> Quantize(const cv::Mat& descriptors, int* new_word_count,
+                               const SearchGate& gate = {}, double* search_ms = nullptr);
 
   // Adds words under given ids (words retrieved from LTM keep theirs).
   void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors);
@@ -46,6 +72,7 @@ class Dictionary {
   // WordIndex::SetSwapWait: how long a quantization may wait for a due background rebuild.
   void SetSwapWait(std::function<double()> budget_ms) { index_->SetSwapWait(std::move(budget_ms)); }
   int descriptor_dim() const { return index_->dim(); }
+  int search_threads() const { return std::max(1, options_.search_threads); }
   DescriptorKind descriptor_kind() const { return index_->kind(); }
   int descriptor_cv_type() const { return index_->cv_type(); }
   const WordIndex& index() const { return *index_; }
@@ -88,6 +115,8 @@ class Dictionary {
   std::set<size_t> changed_mark_chunks_;
   WordBitset referenced_by_ltm_;  // marked words, a subset of words_
   WordId next_word_id_ = 1;
+  long long join_count_ = 0;
+  std::deque<WordId> joined_;  // the last kJoinedRemembered words to join, the oldest first
 };
 
 }  // namespace memloop

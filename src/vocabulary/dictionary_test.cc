@@ -32,6 +32,93 @@ TEST(DictionaryTest, QuantizeCreatesWordsForUnmatchedDescriptors) {
   EXPECT_EQ(dictionary.Match((cv::Mat_<float>(1, 2) << 5.05f, 0))[0], kNoWord);
 }
 
+// Nearest gives the search's two neighbours and their true distances; MatchOf is Match's ratio test
+// on them. A gate that stops after the first chunk (16 rows) leaves the other rows out.
+TEST(DictionaryTest, NearestAndMatchOfAreMatchInTwoSteps) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  dictionary.Add({1, 2}, (cv::Mat_<float>(2, 2) << 0, 0, 10, 0));
+  const cv::Mat queries = (cv::Mat_<float>(2, 2) << 4, 0, 4.5, 0);
+  const auto nearest = dictionary.Nearest(queries);
+  ASSERT_EQ(nearest.size(), 2u);
+  EXPECT_EQ(nearest[0][0].word, 1);
+  EXPECT_FLOAT_EQ(nearest[0][0].distance, 4);
+  EXPECT_EQ(nearest[0][1].word, 2);
+  EXPECT_FLOAT_EQ(nearest[0][1].distance, 6);
+  EXPECT_EQ(dictionary.MatchOf(nearest[0]), 1);        // 4 < 0.8 x 6
+  EXPECT_EQ(dictionary.MatchOf(nearest[1]), kNoWord);  // 4.5 > 0.8 x 5.5
+  const cv::Mat many(40, 2, CV_32F, cv::Scalar(1));
+  SearchOptions first_chunk;
+  first_chunk.gate = [](size_t) { return false; };
+  EXPECT_EQ(dictionary.Match(many, first_chunk).size(), WordIndex::kSearchChunk);
+  EXPECT_EQ(dictionary.Match(many).size(), 40u);
+}
+
+// A gated quantization makes words of the rows it reached only.
+TEST(DictionaryTest, GatedQuantizationStopsAtAChunk) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  testing::AddWords(dictionary, {1, 2});  // at 100 and 200: the rows (1000 + 50 k) match neither
+  cv::Mat rows(40, 2, CV_32F);
+  for (int row = 0; row < rows.rows; ++row) rows.at<float>(row, 0) = 1000.0f + 50 * row;
+  rows.col(1).setTo(0);
+  int created = 0;
+  double search_ms = -1;
+  const std::vector<WordId> words = dictionary.Quantize(
+      rows, &created, [](size_t taken) { return taken < 20; }, &search_ms);
+  EXPECT_EQ(words.size(), 2 * WordIndex::kSearchChunk);  // taken 0, 16 (< 20), then 32: stop
+  EXPECT_EQ(created, static_cast<int>(words.size()));
+  EXPECT_EQ(dictionary.size(), 2 + words.size());
+  EXPECT_GE(search_ms, 0);
+}
+
+// MatchSince: a row searched at a mark, with the nearest and second distances found then, is
+// matched again against the words that joined since, as one search of all of them would.
+TEST(DictionaryTest, MatchSinceCountsTheWordsThatJoinedAfterTheSearch) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  dictionary.Add({1, 2}, (cv::Mat_<float>(2, 2) << 0, 0, 10, 0));
+  EXPECT_EQ(dictionary.JoinMark(), 2);
+  // Searched now: (5,0) is 5 from both words (no match); (1,0) matches word 1 (1 < 0.8 x 9).
+  const cv::Mat rows = (cv::Mat_<float>(2, 2) << 5, 0, 1, 0);
+  const auto nearest = dictionary.Nearest(rows);
+  const long long mark = dictionary.JoinMark();
+  const std::vector<std::pair<float, float>> found = {
+      {nearest[0][0].distance, nearest[0][1].distance},
+      {nearest[1][0].distance, nearest[1][1].distance}};
+  // Nothing joined: the answers stand (a row that matched stays matched: MatchSince only says
+  // whether a joined word takes it).
+  EXPECT_EQ(*dictionary.MatchSince(rows, found, mark), (std::vector<WordId>{kNoWord, kNoWord}));
+  // A twin of (5,0) joins at (5,0.5): 0.5 < 0.8 x min(5, its second among the joined: none) = 4.
+  dictionary.Add({3}, (cv::Mat_<float>(1, 2) << 5, 0.5f));
+  EXPECT_EQ(*dictionary.MatchSince(rows, found, mark), (std::vector<WordId>{3, kNoWord}));
+  // Another joins beside it at (5,-0.5): 0.5 vs 0.5, the ratio test fails for both.
+  dictionary.Add({4}, (cv::Mat_<float>(1, 2) << 5, -0.5f));
+  EXPECT_EQ(*dictionary.MatchSince(rows, found, mark), (std::vector<WordId>{kNoWord, kNoWord}));
+  // A joined word that left again does not count.
+  dictionary.Remove(4);
+  EXPECT_EQ(*dictionary.MatchSince(rows, found, mark), (std::vector<WordId>{3, kNoWord}));
+  // Not nearer than what the search found: (1,0)'s nearest is still word 1, no change.
+  dictionary.Add({5}, (cv::Mat_<float>(1, 2) << 1, 3));
+  EXPECT_EQ(*dictionary.MatchSince(rows, found, mark), (std::vector<WordId>{3, kNoWord}));
+}
+
+TEST(DictionaryTest, MatchSinceForgetsWhatJoinedLongAgo) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  const cv::Mat row = (cv::Mat_<float>(1, 2) << 0, 0);
+  const long long mark = dictionary.JoinMark();
+  std::vector<WordId> ids(Dictionary::kJoinedRemembered);
+  cv::Mat points(static_cast<int>(ids.size()), 2, CV_32F);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    ids[i] = static_cast<WordId>(i + 1);
+    points.at<float>(static_cast<int>(i), 0) = 100.0f + i;
+    points.at<float>(static_cast<int>(i), 1) = 0;
+  }
+  dictionary.Add(ids, points);
+  EXPECT_TRUE(dictionary.MatchSince(row, {{1e9f, 1e9f}}, mark).has_value());
+  testing::AddWords(dictionary,
+                    {static_cast<WordId>(ids.size() + 1000)});  // one more: the first goes
+  EXPECT_FALSE(dictionary.MatchSince(row, {{1e9f, 1e9f}}, mark).has_value());
+  EXPECT_TRUE(dictionary.MatchSince(row, {{1e9f, 1e9f}}, mark + 1).has_value());
+}
+
 TEST(DictionaryTest, ReferencesAreTheInvertedIndex) {
   Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
   testing::AddWords(dictionary, {1});

@@ -206,7 +206,8 @@ class FlannWordIndex : public WordIndex {
     if (history.pending) ReplayPendingBuild(history, latest_point_before);
   }
 
-  std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const override {
+  std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries,
+                                               const SearchOptions& search) const override {
     assert(queries.type() == cv_type() && queries.cols == dim());
     std::vector<std::array<Neighbour, 2>> result(queries.rows);
     const size_t k = std::min<size_t>(2, size());
@@ -218,18 +219,25 @@ class FlannWordIndex : public WordIndex {
     std::vector<DistanceType> distances(queries.rows * k);
     flann::Matrix<size_t> index_matrix(indices.data(), queries.rows, k);
     flann::Matrix<DistanceType> distance_matrix(distances.data(), queries.rows, k);
-    flann::SearchParams params(options_.kd_checks);
+    flann::SearchParams params(search.checks > 0 ? search.checks : options_.kd_checks);
     params.cores = 1;  // threads are search_team_'s: the caller works too (work_team.h)
     // Each query is searched alone and writes only its own rows: the same answers whatever the
     // number of threads.
-    search_team_.Run(queries.rows, kSearchChunk, [&](size_t begin, size_t end) {
-      const size_t rows = end - begin;
-      flann::Matrix<Element> chunk_queries(query_matrix[begin], rows, dim());
-      flann::Matrix<size_t> chunk_indices(index_matrix[begin], rows, k);
-      flann::Matrix<DistanceType> chunk_distances(distance_matrix[begin], rows, k);
-      index_->knnSearch(chunk_queries, chunk_indices, chunk_distances, k, params);
-    });
-    for (int row = 0; row < queries.rows; ++row) {
+    static WorkTeam alone(1);  // no helper: Run works on the caller's thread only
+    const size_t searched =
+        (search.caller_only ? alone : search_team_)
+            .Run(
+                queries.rows, kSearchChunk,
+                [&](size_t begin, size_t end) {
+                  const size_t rows = end - begin;
+                  flann::Matrix<Element> chunk_queries(query_matrix[begin], rows, dim());
+                  flann::Matrix<size_t> chunk_indices(index_matrix[begin], rows, k);
+                  flann::Matrix<DistanceType> chunk_distances(distance_matrix[begin], rows, k);
+                  index_->knnSearch(chunk_queries, chunk_indices, chunk_distances, k, params);
+                },
+                search.gate);
+    result.resize(searched);
+    for (size_t row = 0; row < searched; ++row) {
       for (size_t n = 0; n < k; ++n) {
         const WordId word = points_.WordOf(index_matrix[row][n]);
         if (word == kNoWord) continue;  // fewer than k found
@@ -579,9 +587,6 @@ class FlannWordIndex : public WordIndex {
   }
 
   DictionaryOptions options_;
-  // Queries per chunk of a search: ~0.5 ms of work at a few hundred thousand words, large enough
-  // that taking a chunk costs nothing beside it.
-  static constexpr size_t kSearchChunk = 16;
   // The most points the swap adds itself (about 2 ms; 10,000-20,000 took 45-62 ms), and the most
   // catch-up rounds before it adds what is left anyway.
   static constexpr size_t kSwapMaxPoints = 1000;

@@ -21,22 +21,35 @@ std::vector<std::pair<WordId, int>> Signature::Histogram() const {
   return histogram;
 }
 
-Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count) {
+Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count,
+                          const SearchGate& gate, double* search_ms) {
   Signature signature;
-  signature.keypoints = features.keypoints;
-  signature.words = dictionary.Quantize(features.descriptors, new_word_count);
+  signature.words = dictionary.Quantize(features.descriptors, new_word_count, gate, search_ms);
+  signature.keypoints.assign(features.keypoints.begin(),
+                             features.keypoints.begin() + signature.words.size());
   return signature;
 }
 
-Signature MatchSignature(const Features& features, const Dictionary& dictionary) {
+Signature MatchSignature(const Features& features, const Dictionary& dictionary,
+                         const SearchGate& gate, size_t* searched) {
   Signature signature;
-  const std::vector<WordId> words = dictionary.Match(features.descriptors);
+  const std::vector<WordId> words = dictionary.Match(features.descriptors, {gate});
+  if (searched != nullptr) *searched = words.size();
   for (size_t row = 0; row < words.size(); ++row) {
     if (words[row] == kNoWord) continue;
     signature.words.push_back(words[row]);
     signature.keypoints.push_back(features.keypoints[row]);
   }
   return signature;
+}
+
+void KeepFirstFeatures(Features& features, size_t count) {
+  if (count >= features.keypoints.size()) return;
+  features.keypoints.resize(count);
+  features.descriptors = features.descriptors.rowRange(0, static_cast<int>(count));
+  if (!features.rolled_descriptors.empty()) {
+    features.rolled_descriptors = features.rolled_descriptors.rowRange(0, static_cast<int>(count));
+  }
 }
 
 int CountWordPairs(const std::vector<std::pair<WordId, int>>& histogram_a,

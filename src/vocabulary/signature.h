@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "memloop/types.h"
+#include "vocabulary/word_index.h"
 
 namespace memloop {
 
@@ -29,12 +30,21 @@ struct Signature {
 };
 
 // Quantizes the features into words of `dictionary`, creating words for descriptors that match
-// none (paper III-A). `new_word_count` receives how many were created.
-Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count);
+// none (paper III-A). `new_word_count` receives how many were created. With a `gate`
+// (Dictionary::Quantize), the first features only: the signature then holds fewer keypoints.
+// `search_ms` receives the kd-forest search's time.
+Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count,
+                          const SearchGate& gate = {}, double* search_ms = nullptr);
 
 // Localization: the words of `dictionary` the features match; a feature that matches none is
-// dropped (with its keypoint) instead of becoming a new word.
-Signature MatchSignature(const Features& features, const Dictionary& dictionary);
+// dropped (with its keypoint) instead of becoming a new word. With a `gate`, of the first
+// features only; `searched` (if given) receives how many were searched.
+Signature MatchSignature(const Features& features, const Dictionary& dictionary,
+                         const SearchGate& gate = {}, size_t* searched = nullptr);
+
+// Keeps the first `count` features (the strongest: extractors sort them), with the rows of their
+// rolled view.
+void KeepFirstFeatures(Features& features, size_t count);
 
 // N_pair: matched word pairs of two signatures. A word held m times by one and n times by the
 // other makes min(m, n) pairs (the paper leaves repeated words open; this keeps s <= 1).

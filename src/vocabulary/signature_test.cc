@@ -48,5 +48,35 @@ TEST(SignatureTest, LocalizationMatchesWithoutCreatingWords) {
   EXPECT_EQ(dictionary.size(), 2u);
 }
 
+// A gated quantization keeps the features it reached (the first, strongest ones) and their
+// keypoints; KeepFirstFeatures cuts the image's features, rolled view included, to match.
+TEST(SignatureTest, GatedSignatureHoldsTheFirstFeatures) {
+  Dictionary dictionary(DescriptorKind::kFloat, 2, testing::SmallDictionaryOptions());
+  testing::AddWords(dictionary, {1});
+  Features features;
+  features.descriptors.create(40, 2, CV_32F);
+  features.rolled_descriptors.create(40, 2, CV_32F);
+  for (int row = 0; row < 40; ++row) {
+    features.keypoints.emplace_back(static_cast<float>(row), 0.0f, 3.0f);
+    features.descriptors.at<float>(row, 0) = 1000.0f + 50 * row;
+    features.descriptors.at<float>(row, 1) = 0;
+    features.rolled_descriptors.at<float>(row, 0) = static_cast<float>(row);
+    features.rolled_descriptors.at<float>(row, 1) = 0;
+  }
+  int created = 0;
+  const Signature signature =
+      CreateSignature(features, dictionary, &created, [](size_t) { return false; });
+  ASSERT_EQ(signature.size(), 16);
+  EXPECT_EQ(signature.keypoints.size(), 16u);
+  EXPECT_EQ(signature.keypoints.back().pt.x, 15.0f);
+  KeepFirstFeatures(features, 16);
+  EXPECT_EQ(features.keypoints.size(), 16u);
+  EXPECT_EQ(features.descriptors.rows, 16);
+  EXPECT_EQ(features.rolled_descriptors.rows, 16);
+  EXPECT_EQ(features.rolled_descriptors.at<float>(15, 0), 15.0f);
+  KeepFirstFeatures(features, 100);  // more than there are: nothing changes
+  EXPECT_EQ(features.descriptors.rows, 16);
+}
+
 }  // namespace
 }  // namespace memloop

@@ -37,6 +37,21 @@ struct IndexHistory {
   int pending_age = 0;
 };
 
+// Between chunks of a search: whether to search more rows, given the rows taken so far.
+using SearchGate = std::function<bool(size_t rows_taken)>;
+
+// How a search goes (WordIndex::Search); the default: every row, on the search's threads.
+struct SearchOptions {
+  // Rows are searched in chunks, taken in order while the gate says so (WorkTeam::Gate): the
+  // answer then holds the first rows only, each the same as without a gate.
+  SearchGate gate;
+  // On the calling thread alone, without the search's other threads (a search beside another
+  // one: searches only read the index).
+  bool caller_only = false;
+  // Leaves visited (FLANN "checks"); 0: DictionaryOptions::kd_checks.
+  int checks = 0;
+};
+
 struct Neighbour {
   WordId word = kNoWord;
   float distance = 0;  // true L2 distance (not squared), or Hamming distance in bits
@@ -44,6 +59,11 @@ struct Neighbour {
 
 class WordIndex {
  public:
+  // Rows per chunk of a search (its threads take chunks; a gate is asked between them): ~0.5 ms
+  // of work at a few hundred thousand words, large enough that taking a chunk costs nothing
+  // beside it.
+  static constexpr size_t kSearchChunk = 16;
+
   virtual ~WordIndex() = default;
   // kDescriptorFloat: CV_32F rows of `dim` values; kBinary: CV_8U rows of `dim` bytes.
   static std::unique_ptr<WordIndex> Create(DescriptorKind kind, int dim,
@@ -63,8 +83,9 @@ class WordIndex {
   // The word's descriptor as one row (a copy); empty when unknown.
   virtual cv::Mat Descriptor(WordId id) const = 0;
   virtual size_t size() const = 0;
-  // The two nearest words of each row (kNoWord where fewer are found).
-  virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries) const = 0;
+  // The two nearest words of each row (kNoWord where fewer are found), as `options` say.
+  virtual std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries,
+                                                       const SearchOptions& options = {}) const = 0;
   // Full builds so far.
   virtual int build_count() const = 0;
   // The history since the last build, with the points from `from_point` on. Unless `complete`,

@@ -1,0 +1,195 @@
+#include "detector/retrieval_staging.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "detector/retrieval.h"
+#include "detector/transfer.h"
+#include "small_map.h"
+
+namespace memloop {
+namespace {
+
+constexpr double kForever = std::numeric_limits<double>::infinity();
+
+// A chain L1 .. L5 (words at id x 100, 0) whose L2, L3 ({30, 70}) and L4 ({40, 70}) are in LTM,
+// their words gone from the dictionary, which holds words 1 (100) and 5 (500): words 30 and 70
+// match neither (3000: 2500 vs 2900, 7000: 6500 vs 6900, over the 0.8 ratio). LTM is flushed so
+// that a read-ahead thread sees them.
+class RetrievalStagingTest : public ::testing::Test {
+ protected:
+  RetrievalStagingTest() {
+    ids_ = testing::AddChain(memory_, {{1}, {2}, {30, 70}, {40, 70}, {5}});
+    memory_.MoveStmOverflowToWm(0);
+    memory_.at(ids_[0]).weight = 5;
+    TransferTrigger trigger;
+    trigger.max_wm_locations = 2;
+    trigger.dictionary_size_at_start = memory_.dictionary().size();
+    Transfer(trigger, {ids_[4]}, {}, memory_, map_.editor);
+    ltm_->Flush();
+  }
+
+  // A location staged as retrieval over iterations does it: its rows read ahead, its words
+  // searched.
+  RetrievalStaging::Staged& Stage(LocationId id) {
+    std::optional<PrefetchedRows> rows = read_ahead_.WaitRead(id, kForever);
+    EXPECT_TRUE(rows.has_value());
+    RetrievalStaging::Staged& staged = staging_.Start(id, std::move(*rows));
+    EXPECT_TRUE(SearchStagedWords(staged, memory_.dictionary(), *ltm_, StepDeadline(), 0));
+    return staged;
+  }
+
+  // Retrieval with time to spare, staged.
+  RetrievalOutcome RetrieveStaged(LocationId target, int max_retrieved = 1) {
+    RetrievalTime time;
+    time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+    time.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
+    time.read_ahead = &read_ahead_;
+    time.staging = &staging_;
+    return Retrieve(target, max_retrieved, 4, memory_, *ltm_, time);
+  }
+
+  testing::SmallMap map_;
+  Memory& memory_ = map_.memory;
+  LongTermMemory* ltm_ = &map_.ltm;
+  std::vector<LocationId> ids_;
+  LtmReadAhead read_ahead_{*ltm_};
+  RetrievalStaging staging_;
+  StepCost location_cost_;
+  StepCost chunk_cost_;
+};
+
+// The staged search found no twin for words 30 and 70. A twin of word 70 then joins (the next
+// image's word beside 70's point): at the retrieval word 70 is replaced by it, as a search at that
+// moment would, instead of coming back beside its twin (then neither would match the next images).
+TEST_F(RetrievalStagingTest, ATwinThatJoinedAfterTheSearchIsFound) {
+  RetrievalStaging::Staged& staged = Stage(ids_[2]);
+  ASSERT_EQ(staged.matches.size(), 2u);
+  EXPECT_EQ(staged.matches.at(70).match, kNoWord);
+  EXPECT_FLOAT_EQ(staged.matches.at(70).nearest, 6500);  // word 5 at 500
+  EXPECT_FLOAT_EQ(staged.matches.at(70).second, 6900);   // word 1 at 100
+  memory_.dictionary().Add({200}, (cv::Mat_<float>(1, 2) << 7000, 1));
+  const RetrievalOutcome outcome = RetrieveStaged(ids_[2]);
+  ASSERT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(outcome.words_replaced, 1);
+  EXPECT_EQ(outcome.words_added, 1);
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{30, 200}));
+  EXPECT_EQ(ltm_->Peek(ids_[3])->signature.words, (std::vector<WordId>{40, 200}));  // LTM too
+  EXPECT_EQ(staging_.Find(ids_[2]), nullptr);                                       // done with
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// An answer names a word that has left the dictionary since: the word is searched again.
+TEST_F(RetrievalStagingTest, AnAnswerWhoseWordLeftIsSearchedAgain) {
+  RetrievalStaging::Staged& staged = Stage(ids_[2]);
+  memory_.dictionary().Add({200}, (cv::Mat_<float>(1, 2) << 7000, 0));
+  staged.matches[70] = {200, 0, 100, memory_.dictionary().JoinMark()};
+  memory_.dictionary().Remove(200);
+  memory_.dictionary().Add({201}, (cv::Mat_<float>(1, 2) << 7001, 0));
+  ASSERT_EQ(RetrieveStaged(ids_[2]).retrieved.size(), 1u);
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{30, 201}));
+}
+
+// Staged with plenty of time, a location comes back as the whole retrieval brings it
+// (RetrievalTest: the same words replaced and added), in the same iteration.
+TEST_F(RetrievalStagingTest, WithTimeToSpareStagingRetrievesInOneIteration) {
+  memory_.dictionary().Add({200}, (cv::Mat_<float>(1, 2) << 7000, 0));
+  staging_.StartIteration();
+  const RetrievalOutcome outcome = RetrieveStaged(ids_[2]);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(outcome.deferred, 0);
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{30, 200}));
+  EXPECT_EQ(staging_.size(), 0u);
+}
+
+// Without room for one chunk, a location is staged (its rows kept) but not searched; it stays
+// staged, counted as deferred, and a later iteration wanting it again finishes it.
+TEST_F(RetrievalStagingTest, ALocationWithoutRoomStaysStagedForALaterIteration) {
+  staging_.StartIteration();
+  StepCost chunk;
+  chunk.Record(5);  // expected 5 + 2 x 2.5 = 10 ms a chunk
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+  time.search_chunk = StepDeadline([] { return 35.0; }, 40, &chunk);  // 35 + 10 > 40
+  time.read_ahead = &read_ahead_;
+  time.staging = &staging_;
+  const RetrievalOutcome late = Retrieve(ids_[2], 1, 4, memory_, *ltm_, time);
+  EXPECT_TRUE(late.retrieved.empty());
+  EXPECT_EQ(late.deferred, 1);
+  ASSERT_NE(staging_.Find(ids_[2]), nullptr);
+  EXPECT_TRUE(staging_.Find(ids_[2])->matches.empty());
+  EXPECT_TRUE(ltm_->Contains(ids_[2]));
+  staging_.StartIteration();
+  EXPECT_EQ(RetrieveStaged(ids_[2]).retrieved, (std::vector<LocationId>{ids_[2]}));
+}
+
+// A location wanted in one of the last kCarryOnFor iterations, not this one, is carried on.
+TEST_F(RetrievalStagingTest, RecentlyWantedLocationsAreCarriedOn) {
+  staging_.StartIteration();
+  staging_.Want(Stage(ids_[2]), 0);
+  for (long long i = 0; i < RetrievalStaging::kCarryOnFor; ++i) staging_.StartIteration();
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+  time.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
+  time.read_ahead = &read_ahead_;
+  time.staging = &staging_;
+  EXPECT_EQ(ContinueStaged(2, memory_, *ltm_, time).retrieved, (std::vector<LocationId>{ids_[2]}));
+  // One iteration later it would not have been.
+  staging_.StartIteration();
+  staging_.Want(Stage(ids_[3]), 0);
+  for (long long i = 0; i <= RetrievalStaging::kCarryOnFor; ++i) staging_.StartIteration();
+  EXPECT_TRUE(ContinueStaged(2, memory_, *ltm_, time).retrieved.empty());
+  EXPECT_NE(staging_.Find(ids_[3]), nullptr);  // kept until forgotten
+}
+
+// The staged locations this iteration wanted come first, by priority then in the order wanted;
+// one not wanted for kForgetAfter iterations is forgotten; at most kMaxStaged are kept.
+TEST(RetrievalStagingOrderTest, WantedFirstForgottenLater) {
+  RetrievalStaging staging;
+  staging.StartIteration();
+  staging.Start(1, {});
+  staging.Start(2, {});
+  staging.Start(3, {});
+  staging.Want(*staging.Find(2), 1);
+  staging.Want(*staging.Find(3), 0);
+  staging.StartIteration();
+  staging.Want(*staging.Find(1), 1);
+  std::vector<LocationId> order;
+  for (const auto& [id, staged] : staging.ByRecency()) order.push_back(id);
+  EXPECT_EQ(order, (std::vector<LocationId>{1, 3, 2}));  // 1 now; then 3 (priority 0), 2
+  for (long long i = 0; i < RetrievalStaging::kForgetAfter; ++i) staging.StartIteration();
+  EXPECT_EQ(staging.size(), 1u);  // 2 and 3 were last wanted kForgetAfter + 1 iterations ago
+  EXPECT_NE(staging.Find(1), nullptr);
+  for (LocationId id = 10; id < 10 + static_cast<LocationId>(RetrievalStaging::kMaxStaged); ++id) {
+    staging.Start(id, {});
+  }
+  EXPECT_EQ(staging.size(), RetrievalStaging::kMaxStaged);
+  EXPECT_EQ(staging.Find(1), nullptr);  // the one wanted longest ago made room
+}
+
+// Beside an extraction, the staged words are searched on another thread: the answers are those of
+// the same search on the detector's thread, and the search stops when asked.
+TEST_F(RetrievalStagingTest, SearchBesideTheExtractionGivesTheSameAnswers) {
+  RetrievalStaging::Staged& staged = Stage(ids_[2]);
+  const WordMatches expected = staged.matches;
+  staged.matches.clear();
+  StagedWordSearch search;
+  {
+    auto running = search.Start(staging_, memory_.dictionary(), *ltm_);
+    running.WaitUntilSearched();  // an extraction longer than the search
+  }
+  EXPECT_EQ(search.words_searched(), 2);
+  ASSERT_EQ(staged.matches.size(), 2u);
+  for (const auto& [word, answer] : expected) {
+    EXPECT_EQ(staged.matches.at(word).match, answer.match);
+    EXPECT_EQ(staged.matches.at(word).nearest, answer.nearest);
+    EXPECT_EQ(staged.matches.at(word).second, answer.second);
+  }
+  // Nothing left to search: nothing is started.
+  { const auto running = search.Start(staging_, memory_.dictionary(), *ltm_); }
+  EXPECT_EQ(search.words_searched(), 2);
+}
+
+}  // namespace
+}  // namespace memloop

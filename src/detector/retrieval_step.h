@@ -1,0 +1,56 @@
+// III-E in the iteration: which LTM locations come back into WM this image, for the highest
+// hypothesis and for the place recognized by appearance, under T_time read ahead and readied over
+// several iterations (retrieval_staging.h).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "detector/memory.h"
+#include "detector/retrieval.h"
+#include "detector/retrieval_staging.h"
+#include "detector/step_deadline.h"
+#include "memloop/options.h"
+#include "memloop/result.h"
+#include "storage/long_term_memory.h"
+#include "storage/ltm_read_ahead.h"
+
+namespace memloop {
+
+class RetrievalStep {
+ public:
+  // The read-ahead thread and the search beside the extraction exist only when T_time is on with
+  // memory.retrieval_within_time and memory.retrieval_read_ahead (and, for the search,
+  // memory.retrieval_over_iterations).
+  RetrievalStep(const MemoryOptions& memory, int neighbour_range, Memory& memory_state,
+                LongTermMemory& ltm);
+
+  // To hold while the image's features are extracted (the dictionary unchanged meanwhile): the
+  // staged locations' words are searched on another thread until it goes.
+  StagedWordSearch::Running SearchBesideExtraction();
+
+  // The locations retrieved into WM: the neighbours of `by_hypothesis` and of `by_appearance`
+  // (kNoLocation: none), then staged ones carried on. `deadline_of` gives the iteration's deadline
+  // for a step of the given expected cost (StepDeadline() with T_time off). Deferred and unread
+  // locations are counted in `result`.
+  std::vector<LocationId> Retrieve(LocationId by_hypothesis, LocationId by_appearance,
+                                   const std::function<StepDeadline(StepCost*)>& deadline_of,
+                                   Result& result);
+
+ private:
+  RetrievalTime TimeOf(const std::function<StepDeadline(StepCost*)>& deadline_of);
+
+  MemoryOptions options_;
+  int range_;
+  Memory& memory_;
+  LongTermMemory& ltm_;
+  StepCost location_cost_;    // one retrieval's expected time (T_time on), or its end's (staged)
+  StepCost chunk_cost_;       // one chunk of a staged location's search
+  RetrievalStaging staging_;  // memory.retrieval_over_iterations
+  std::unique_ptr<LtmReadAhead> read_ahead_;  // null unless T_time is on
+  // Last: it stops before what it reads goes.
+  std::unique_ptr<StagedWordSearch> staged_search_;
+};
+
+}  // namespace memloop

@@ -1,0 +1,75 @@
+// The signature step within the time target (memloop, issue 37; memory.signature_within_time).
+// Quantizing an image's features (III-A) is most of an iteration: each feature is a kd-forest
+// search, shared between two threads, and when the second thread finds the other core busy (the
+// LTM writer, a background rebuild, another program) the search takes twice as long. Under a
+// tight T_time that alone broke the bound, and a smaller WM cannot make up for it. So the search
+// takes its chunks strongest features first, and stops taking them once the iteration, with one
+// chunk more and what the steps after the quantization are expected to take, would pass the time
+// target; the weaker features left are dropped from the image. At least
+// memory.signature_min_share of the features is quantized, however late. With T_time off, or the
+// parameter off (the paper), every feature is.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "detector/step_deadline.h"
+#include "memloop/feature_extractor.h"
+#include "memloop/options.h"
+#include "vocabulary/dictionary.h"
+#include "vocabulary/signature.h"
+#include "vocabulary/word_index.h"
+
+namespace memloop {
+
+// Whether the quantization takes one more chunk, `taken` features quantized or being quantized:
+// always below `min_rows`; else when a chunk started now (`chunk_ms` on one thread) would end by
+// `deadline_ms` on the iteration's clock (`elapsed_ms`).
+bool TakeNextChunk(size_t taken, size_t min_rows, double elapsed_ms, double chunk_ms,
+                   double deadline_ms);
+
+class SignatureBudget {
+ public:
+  // `elapsed_ms`: the iteration's clock.
+  SignatureBudget(const MemoryOptions& memory, int search_threads,
+                  std::function<double()> elapsed_ms = {});
+
+  // III-A's quantization of `features` within the budget (CreateSignature, MatchSignature):
+  // features the search did not reach leave `features` too (KeepFirstFeatures), so that what
+  // else reads them sees the signature's; `skipped` receives how many.
+  Signature Create(Features& features, Dictionary& dictionary, int* new_words, int* skipped);
+  Signature Match(Features& features, const Dictionary& dictionary, int* skipped);
+  // Retrieval starts: the steps since the quantization's search are measured.
+  void QuantizationOver();
+
+  bool enabled() const { return target_ms_ > 0; }
+  // The gate of an image's quantization (none when disabled), `features` of them, on the
+  // iteration's clock; made when the search starts. A chunk is expected to take the larger of
+  // ChunkMs() and what this search's chunks have taken so far.
+  SearchGate Gate(size_t features, std::function<double()> elapsed_ms) const;
+  // The search of `rows` features took `ms` (wall time, the threads sharing it).
+  void RecordQuantization(double ms, size_t rows);
+  // The steps from the end of the search to retrieval (the new words' insertion in the forest,
+  // the rest of the signature step, rehearsal, the filter and selection) took `ms`.
+  void RecordAfterQuantization(double ms);
+
+  // The last feature may be taken by then: the time target minus what the steps after the
+  // quantization are expected to take.
+  double DeadlineMs() const { return target_ms_ - after_.expected_ms(); }
+  // One chunk's expected time on one thread.
+  double ChunkMs() const { return row_.expected_ms() * WordIndex::kSearchChunk; }
+
+ private:
+  void Finish(double start_ms, double search_ms, size_t quantized, Features& features,
+              int* skipped);
+
+  std::function<double()> elapsed_ms_;
+  double searched_at_ms_ = 0;  // on the iteration's clock: the end of the last search
+  double target_ms_ = 0;       // 0: disabled
+  double min_share_ = 1;
+  int search_threads_ = 1;
+  StepCost row_;    // one feature's quantization on one thread
+  StepCost after_;  // the steps after the quantization, up to retrieval
+};
+
+}  // namespace memloop

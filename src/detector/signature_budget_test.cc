@@ -1,0 +1,67 @@
+#include "detector/signature_budget.h"
+
+#include <gtest/gtest.h>
+
+namespace memloop {
+namespace {
+
+TEST(SignatureBudgetTest, AChunkIsTakenWhenItEndsByTheDeadlineOrBelowTheMinimum) {
+  EXPECT_TRUE(TakeNextChunk(32, 50, 8.0, 1.5, 10.0));    // 9.5 <= 10
+  EXPECT_TRUE(TakeNextChunk(32, 50, 8.5, 1.5, 10.0));    // 10, just
+  EXPECT_FALSE(TakeNextChunk(64, 50, 8.6, 1.5, 10.0));   // 10.1
+  EXPECT_TRUE(TakeNextChunk(32, 50, 20.0, 1.5, 10.0));   // late, but 32 < the 50 always taken
+  EXPECT_FALSE(TakeNextChunk(50, 50, 20.0, 1.5, 10.0));  // the minimum reached
+}
+
+MemoryOptions TimeLimit(double ms) {
+  MemoryOptions memory;
+  memory.time_limit_ms = ms;
+  memory.time_target = 0.75;
+  memory.signature_min_share = 0.5;
+  return memory;
+}
+
+TEST(SignatureBudgetTest, OffWithoutTimeLimitOrWhenTheParameterSaysSo) {
+  EXPECT_FALSE(SignatureBudget(TimeLimit(0), 2).enabled());
+  EXPECT_FALSE(SignatureBudget(TimeLimit(0), 2).Gate(100, [] { return 1e9; }));
+  MemoryOptions off = TimeLimit(20);
+  off.signature_within_time = 0;
+  EXPECT_FALSE(SignatureBudget(off, 2).enabled());
+  EXPECT_TRUE(SignatureBudget(TimeLimit(20), 2).enabled());
+}
+
+// Target 0.75 x 20 = 15 ms. The steps after the search took 2 ms (expected 2 + 2 x 1 = 4: the
+// deadline is 11 ms); a search of 200 rows on two threads took 4 ms: 4 x 2 / 200 = 0.04 ms a row on
+// one thread, expected 0.04 + 2 x 0.02 = 0.08, a chunk of 16 rows 1.28 ms.
+TEST(SignatureBudgetTest, TheDeadlineLeavesRoomForTheStepsAfterTheSearch) {
+  SignatureBudget budget(TimeLimit(20), 2);
+  EXPECT_DOUBLE_EQ(budget.DeadlineMs(), 15);  // nothing measured yet
+  budget.RecordAfterQuantization(2);
+  budget.RecordQuantization(4, 200);
+  EXPECT_DOUBLE_EQ(budget.DeadlineMs(), 11);
+  EXPECT_NEAR(budget.ChunkMs(), 1.28, 1e-12);
+  double now = 9.0;
+  const SearchGate gate = budget.Gate(200, [&now] { return now; });  // the search starts at 9 ms
+  now = 9.5;              // 48 rows taken in 0.5 ms: faster than expected
+  EXPECT_TRUE(gate(48));  // 9.5 + 1.28 <= 11
+  now = 9.8;
+  EXPECT_FALSE(gate(112));  // 9.8 + 1.28 > 11, and 112 >= the 100 always taken
+  EXPECT_TRUE(gate(96));    // under the minimum, 50% of 200
+}
+
+// A search slower than the last ones judges by its own chunks: 48 rows in 3.5 ms on two threads is
+// 3.5 x 2 x 16 / 48 = 2.33 ms a chunk, more than the 1.28 expected from the last searches.
+TEST(SignatureBudgetTest, ASlowSearchJudgesByItsOwnChunks) {
+  SignatureBudget budget(TimeLimit(20), 2);
+  budget.RecordAfterQuantization(2);
+  budget.RecordQuantization(4, 200);
+  double now = 6.0;
+  const SearchGate gate = budget.Gate(80, [&now] { return now; });  // at least 40 rows
+  now = 8.0;
+  EXPECT_TRUE(gate(40));  // 2 x 2 x 16 / 40 = 1.6 a chunk: 9.6 <= 11
+  now = 9.5;
+  EXPECT_FALSE(gate(48));  // 9.5 + 2.33 > 11 (with the expected 1.28 alone: 10.78, taken)
+}
+
+}  // namespace
+}  // namespace memloop
