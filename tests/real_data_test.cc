@@ -123,7 +123,9 @@ TEST(RealDataTest, RecallFloorsOnEverySharedDataSet) {
     ++present;
     const DataSetRun run = RunDataSet(name, Options());
     EXPECT_GE(run.evaluation.recall_at_full_precision, floor) << name;
-    if (name == "lip6_outdoor") EXPECT_GE(run.lenient.recall_at_full_precision, 0.837);
+    if (name == "lip6_outdoor") {
+      EXPECT_GE(run.lenient.recall_at_full_precision, 0.837);
+    }
     EXPECT_EQ(run.evaluation.accepted.false_positives, 0) << name;
     // The report draws what eval counts (before, tum_fr1_rpy's 84 loop closures on ignored pairs
     // were drawn as false positives while eval counted none).

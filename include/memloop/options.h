@@ -164,11 +164,11 @@ struct MemoryOptions {
   // T_time rarely leaves, so retrievals were deferred and revisits lost). 0: a location is
   // retrieved whole in one iteration, or deferred.
   int retrieval_over_iterations = 1;
-  // Leaves the kd-forest search visits when re-matching a retrieved location's words (III-E);
-  // 0: dictionary.kd_checks, as for an image's features (the paper). A word's twin (the same
-  // feature seen again) is close to it and found early: 8 makes re-matching 4x cheaper, which a
-  // tight T_time needs (issue 37: revisits found at 2x the median iteration ~25% -> ~45%), and
-  // finds as many loops with T_time off (docs/design.md, "Retrieval under a tight T_time").
+  // Under T_time, with retrieval_over_iterations: leaves the kd-forest search visits when
+  // re-matching a staged location's words (III-E); 0: dictionary.kd_checks, as for an image's
+  // features and as with T_time off. A word's twin (the same feature seen again) is close to it
+  // and found early: 8 makes re-matching 4x cheaper where time is short (issue 37; docs/design.md,
+  // "Fixed costs under a tight T_time").
   int retrieval_kd_checks = 8;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its

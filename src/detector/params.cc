@@ -134,7 +134,7 @@ std::vector<Parameter> MakeRegistry() {
     Param("memory.retrieval_over_iterations", MEMLOOP_FIELD(memory.retrieval_over_iterations)).Flag()
         .Help("true, with the read-ahead: a location's words that left the dictionary are re-matched a chunk at a time while iterations have room, and it is retrieved once they all are (false = retrieved whole in one iteration, or deferred)"),
     Param("memory.retrieval_kd_checks", MEMLOOP_FIELD(memory.retrieval_kd_checks)).Unit("leaves")
-        .Range(0, 100000).Help("Leaves the kd-forest search visits when re-matching a retrieved location's words that left the dictionary (0 = dictionary.kd_checks)"),
+        .Range(0, 100000).Help("Under T_time, with memory.retrieval_over_iterations: leaves the kd-forest search visits when re-matching a staged location's words that left the dictionary (0 = dictionary.kd_checks, as with T_time off)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")
         .Range(1, 100000).Help("A resume checkpoint of STM, WM, dictionary and filter every this many images; a crash loses at most twice as many"),
     Param("memory.checkpoint_max_skipped", MEMLOOP_FIELD(memory.checkpoint_max_skipped)).Unit("images")

@@ -9,7 +9,7 @@
 
 namespace memloop {
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
-                              const PrefetchedRows* rows, const WordMatches* searched, int checks) {
+                              const PrefetchedRows* rows, const WordMatches* searched) {
   RetrievalOutcome outcome;
   std::vector<WordId> missing;
   for (const auto& [word, count] : location.signature.Histogram()) {
@@ -57,11 +57,8 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
     }
   }
   if (!to_search.empty()) {
-    SearchOptions search;
-    search.checks = checks;
     const std::vector<WordId> found = dictionary.Match(
-        LoadWordDescriptors(to_search, dictionary, ltm, rows, location.id, /*required=*/true),
-        search);
+        LoadWordDescriptors(to_search, dictionary, ltm, rows, location.id, /*required=*/true));
     for (size_t i = 0; i < found.size(); ++i) matches[unanswered[i]] = found[i];
   }
   std::vector<WordId> unmatched_ids;
@@ -129,7 +126,7 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
   if (staged != nullptr) {
     if (wanted) staging->Want(*staged, time.priority);
     if (!SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
-                           time.location.ExpectedMs(), time.checks) ||
+                           time.location.ExpectedMs()) ||
         !time.location.Fits()) {
       ++outcome.deferred;
       return;
@@ -138,9 +135,8 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
   const PrefetchedRows* from = staged != nullptr ? &staged->rows : rows ? &*rows : nullptr;
   const Stopwatch stopwatch;
   std::optional<Location> location = from ? ltm.Retrieve(id, *from) : ltm.Retrieve(id);
-  const RetrievalOutcome words =
-      RematchWords(*location, memory.dictionary(), ltm, from,
-                   staged != nullptr ? &staged->matches : nullptr, time.checks);
+  const RetrievalOutcome words = RematchWords(*location, memory.dictionary(), ltm, from,
+                                              staged != nullptr ? &staged->matches : nullptr);
   outcome.words_added += words.words_added;
   outcome.words_replaced += words.words_replaced;
   // A word now in the dictionary may also be held by other LTM locations.

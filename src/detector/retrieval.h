@@ -31,8 +31,6 @@ struct RetrievalTime {
   RetrievalStaging* staging = nullptr;
   // Staged locations of a lower priority are searched first beside the next extraction.
   int priority = 0;
-  // Leaves a re-matching search visits (memory.retrieval_kd_checks; 0: the dictionary's).
-  int checks = 0;
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest
@@ -67,6 +65,6 @@ RetrievalOutcome ContinueStaged(int max_retrieved, Memory& memory, LongTermMemor
 // (or it matched none); the others are searched now.
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
                               const PrefetchedRows* rows = nullptr,
-                              const WordMatches* searched = nullptr, int checks = 0);
+                              const WordMatches* searched = nullptr);
 
 }  // namespace memloop

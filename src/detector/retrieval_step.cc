@@ -23,7 +23,6 @@ StagedWordSearch::Running RetrievalStep::SearchBesideExtraction() {
 
 RetrievalTime RetrievalStep::TimeOf(const std::function<StepDeadline(StepCost*)>& deadline_of) {
   RetrievalTime time;
-  time.checks = options_.retrieval_kd_checks;
   if (!options_.retrieval_within_time) return time;
   time.location = deadline_of(&location_cost_);
   time.search_chunk = deadline_of(&chunk_cost_);

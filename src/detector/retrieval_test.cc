@@ -68,15 +68,17 @@ TEST_F(RetrievalTest, RenamesAreSeenBeforeTheyAreWritten) {
 
 TEST_F(RetrievalTest, RetrievalsThatDoNotFitAreDeferred) {
   StepCost cost;
-  const RetrievalOutcome late =
-      Retrieve(ids_[0], 2, 4, memory_, *ltm_, {StepDeadline([] { return 45.0; }, 40, &cost)});
+  RetrievalTime late_time;
+  late_time.location = StepDeadline([] { return 45.0; }, 40, &cost);
+  const RetrievalOutcome late = Retrieve(ids_[0], 2, 4, memory_, *ltm_, late_time);
   EXPECT_TRUE(late.retrieved.empty());
   EXPECT_EQ(late.deferred, 2);  // the two it would have retrieved
   EXPECT_EQ(ltm_->size(), 3u);
   EXPECT_FALSE(cost.measured());
   // With time left, the same two come back, and their time is measured.
-  const RetrievalOutcome in_time =
-      Retrieve(ids_[0], 2, 4, memory_, *ltm_, {StepDeadline([] { return 0.0; }, 1e9, &cost)});
+  RetrievalTime time_left;
+  time_left.location = StepDeadline([] { return 0.0; }, 1e9, &cost);
+  const RetrievalOutcome in_time = Retrieve(ids_[0], 2, 4, memory_, *ltm_, time_left);
   EXPECT_EQ(in_time.retrieved, (std::vector<LocationId>{ids_[1], ids_[2]}));
   EXPECT_EQ(in_time.deferred, 0);
   EXPECT_TRUE(cost.measured());
