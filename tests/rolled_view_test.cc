@@ -12,7 +12,7 @@
 #include "memloop/detector.h"
 #include "memloop/evaluation.h"
 #include "memloop/synthetic_route.h"
-#include "temp_dir.h"
+#include "route_frames_run.h"
 
 namespace memloop {
 namespace {
@@ -46,22 +46,15 @@ struct RouteRun {
 RouteRun RunRolledRoute(double rolled_view_degrees) {
   const SyntheticRoute route(Route());
   Options options;
-  options.memory.time_limit_ms = 0;
   options.features.surf_rolled_view_degrees = rolled_view_degrees;
   // The route's procedural textures have weaker edges than streets and rooms (roll strength
   // 0.04-0.16, against lip6_outdoor's median 0.24): the estimate is used from 0.03.
   options.features.surf_min_roll_strength = 0.03;
-  testing::TempDir dir;
-  Detector detector(options, dir.File("map.db"));
-  std::vector<Detection> detections;
+  const testing::FramesRun frames =
+      testing::RunFrames(options, route.size(), [&](int index) { return Frame(route, index); });
   RouteRun run;
-  for (int index = 0; index < route.size(); ++index) {
-    const Result result = detector.Process(Frame(route, index), index);
-    for (const std::string& problem : detector.CheckConsistency()) {
-      ADD_FAILURE() << "after image " << index << ": " << problem;
-    }
-    if (!result.HasLoopClosure()) continue;
-    detections.push_back({result.image_index, result.loop_closure_images});
+  for (const Result& result : frames.loop_closures) {
+    const int index = static_cast<int>(result.image_index);
     const bool second_lap = index >= Route().lap_frames && index < 2 * Route().lap_frames;
     for (ImageIndex match : result.loop_closure_images) {
       if (second_lap && route.IsLoop(index, static_cast<int>(match))) {
@@ -70,7 +63,7 @@ RouteRun RunRolledRoute(double rolled_view_degrees) {
       }
     }
   }
-  run.score = Evaluate(detections, route.Truth());
+  run.score = Evaluate(frames.detections, route.Truth());
   return run;
 }
 

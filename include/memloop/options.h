@@ -266,7 +266,7 @@ struct FilterOptions {
   // With the channel, a loop closure is accepted only when the channel's best WM location (z at
   // least whole_image_support_z) lay within neighbour_range links of it in each of the last this
   // many images, not all one location (whole_image_agreement.h; 0: no check).
-  int whole_image_agreement = 2;
+  int whole_image_agreement = 3;
 };
 
 // Geometric verification of the highest hypothesis (epipolar_check.h): a loop closure is accepted

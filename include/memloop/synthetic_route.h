@@ -30,6 +30,9 @@ struct SyntheticRouteOptions {
   // their views are this close: 0.6 of
   // the image width, i.e. views overlapping by at least 40%.
   double same_place_fraction = 0.6;
+  // A street front under the textures (blocks of their own gray and height): large-scale
+  // structure, which the day-night tests need (a change of light leaves it, not the small shapes).
+  bool facades = false;
 };
 
 class SyntheticRoute {

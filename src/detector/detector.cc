@@ -396,12 +396,14 @@ class Detector::Impl {
     if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
       return agreement_.Require(memory_, options_.filter.neighbour_range, hypothesis);
     }
-    RequireSharedWords(z_t, memory_.at(hypothesis.id).signature, options_.filter.min_shared_words,
-                       hypothesis);
-    if (!options_.filter.require_support) return;
-    const auto value = likelihood.values.find(hypothesis.id);
-    if (value != likelihood.values.end() && value->second > 1.0) return;
-    hypothesis.Refuse();
+    if (!SupportedByWords(z_t, likelihood, hypothesis.id)) hypothesis.Refuse();
+  }
+
+  // The words' own eq. 3, without the whole-image channel's factor: a channel's look-alike with a
+  // few chance words is not supported by words.
+  bool SupportedByWords(const Signature& z_t, const Likelihood& likelihood, LocationId id) const {
+    if (!SharesWords(z_t, memory_.at(id).signature, options_.filter.min_shared_words)) return false;
+    return !options_.filter.require_support || WordLikelihood(likelihood, id) > 1.0;
   }
 
   // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.

@@ -66,10 +66,8 @@ void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hy
   if (std::fabs(roll.degrees) > max_degrees) hypothesis.Refuse();
 }
 
-void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,
-                        Hypothesis& hypothesis) {
-  if (min_words <= 0 || hypothesis.id == kNoLocation) return;
-  if (CountWordPairs(z_t.Histogram(), z_i.Histogram()) < min_words) hypothesis.Refuse();
+bool SharesWords(const Signature& z_t, const Signature& z_i, int min_words) {
+  return min_words <= 0 || CountWordPairs(z_t.Histogram(), z_i.Histogram()) >= min_words;
 }
 
 void CheckLtmNeighbours(const std::vector<LocationId>& links,

@@ -45,12 +45,11 @@ void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesi
 // An unknown roll (few shared words: a hypothesis the filter carries) is not refused.
 void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hypothesis);
 
-// filter.min_shared_words (memloop): L_i is refused when the image `z_t` shares fewer than
-// `min_words` words with it (eq. 1's N_pair, `z_i`). When an image matches almost nothing, mu and
-// sigma of eq. 3 are tiny and a location sharing two words "stands out" as much as a true match:
-// the support of eq. 3 is relative, this floor is absolute.
-void RequireSharedWords(const Signature& z_t, const Signature& z_i, int min_words,
-                        Hypothesis& hypothesis);
+// filter.min_shared_words (memloop): true when the image `z_t` shares at least `min_words` words
+// with L_i (eq. 1's N_pair, `z_i`; always with `min_words` 0). When an image matches almost
+// nothing, mu and sigma of eq. 3 are tiny and a location sharing two words "stands out" as much as
+// a true match: the support of eq. 3 is relative, this floor is absolute.
+bool SharesWords(const Signature& z_t, const Signature& z_i, int min_words);
 
 // filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is
 // in LTM and looks more like the image than L_i does: the image may have been taken there, where

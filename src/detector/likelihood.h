@@ -13,8 +13,10 @@ struct Likelihood {
   double virtual_place = 1;  // p(L_t | S_t = -1), eq. 4
   double mean = 0;           // mu of the non-null scores
   double stddev = 0;         // sigma of the non-null scores
-  // With the whole-image channel (whole_image_likelihood.h): each WM location's z there.
+  // With the whole-image channel (whole_image_likelihood.h): each WM location's z there, and the
+  // channel's factor in `values` (the words' eq. 3 is values / factor).
   IdMap<double> whole_image_z;
+  IdMap<double> whole_image_values;
 };
 
 // Eq. 1 for every WM location, through the dictionary's references (locations that share no word

@@ -48,6 +48,15 @@ void MultiplyLikelihood(WholeImageLikelihood channel, Likelihood& likelihood) {
   }
   likelihood.virtual_place *= channel.virtual_place;
   likelihood.whole_image_z = std::move(channel.z);
+  likelihood.whole_image_values = std::move(channel.values);
+}
+
+double WordLikelihood(const Likelihood& likelihood, LocationId id) {
+  const auto value = likelihood.values.find(id);
+  if (value == likelihood.values.end()) return 0;
+  const auto factor = likelihood.whole_image_values.find(id);
+  return factor == likelihood.whole_image_values.end() ? value->second
+                                                       : value->second / factor->second;
 }
 
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,

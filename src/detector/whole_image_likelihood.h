@@ -37,6 +37,10 @@ WholeImageLikelihood ComputeWholeImageLikelihood(const IdMap<double>& scores, do
 // the channel's z go to likelihood.whole_image_z.
 void MultiplyLikelihood(WholeImageLikelihood channel, Likelihood& likelihood);
 
+// Location `id`'s eq. 3 from its words alone: likelihood.values without the channel's factor (0
+// when it has no value).
+double WordLikelihood(const Likelihood& likelihood, LocationId id);
+
 // The three above with filter.whole_image_gain and whole_image_min_z.
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
                      const FilterOptions& options, Likelihood& likelihood);

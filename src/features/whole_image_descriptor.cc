@@ -34,16 +34,28 @@ WholeImageDescriptor DescribeWholeImage(const cv::Mat& gray) {
 }
 
 double WholeImageSimilarity(const WholeImageDescriptor& a, const WholeImageDescriptor& b) {
-  if (a.empty() || a.size() != b.size()) return 0;
-  int64_t dot = 0, norm_a = 0, norm_b = 0;
-  for (size_t k = 0; k < a.size(); ++k) {
-    dot += int64_t{a[k]} * b[k];
-    norm_a += int64_t{a[k]} * a[k];
-    norm_b += int64_t{b[k]} * b[k];
+  if (a.empty() || a.size() != b.size() || a.size() % kBins != 0) return 0;
+  // Each cell centred on its mean over the orientations: that mean is gradient energy in every
+  // direction (sensor noise, what blur leaves), which a night raises everywhere and which says
+  // nothing of the place; what is left is which orientations stand out in the cell.
+  double dot = 0, norm_a = 0, norm_b = 0;
+  for (size_t cell = 0; cell < a.size(); cell += kBins) {
+    int sum_a = 0, sum_b = 0;
+    for (size_t k = cell; k < cell + kBins; ++k) {
+      sum_a += a[k];
+      sum_b += b[k];
+    }
+    const double mean_a = static_cast<double>(sum_a) / kBins;
+    const double mean_b = static_cast<double>(sum_b) / kBins;
+    for (size_t k = cell; k < cell + kBins; ++k) {
+      const double x = a[k] - mean_a, y = b[k] - mean_b;
+      dot += x * y;
+      norm_a += x * x;
+      norm_b += y * y;
+    }
   }
   if (norm_a == 0 || norm_b == 0) return 0;
-  return static_cast<double>(dot) /
-         std::sqrt(static_cast<double>(norm_a) * static_cast<double>(norm_b));
+  return dot / std::sqrt(norm_a * norm_b);
 }
 
 }  // namespace memloop

@@ -23,8 +23,8 @@ SyntheticRoute::SyntheticRoute(const SyntheticRouteOptions& options) : options_(
   const int detour_width =
       static_cast<int>((2 * options.detour_frames + kDetourGap) * options.step_px) + wrap_width;
 
-  const cv::Mat loop = MakeTexture(loop_width, world_height, rng);
-  const cv::Mat detour = MakeTexture(detour_width, world_height, rng);
+  const cv::Mat loop = MakeTexture(loop_width, world_height, rng, options.facades);
+  const cv::Mat detour = MakeTexture(detour_width, world_height, rng, options.facades);
   world_ = cv::Mat(world_height, loop_width + wrap_width + detour_width, CV_8U);
   loop.copyTo(world_.colRange(0, loop_width));
   loop.colRange(0, wrap_width).copyTo(world_.colRange(loop_width, loop_width + wrap_width));

@@ -10,12 +10,28 @@
 #include "synthetic/ros2_bag_writer.h"
 
 namespace memloop {
+namespace {
 
-cv::Mat MakeTexture(int width, int height, cv::RNG& rng) {
+// Blocks side by side along the texture, each a gray of its own (the smooth noise shows through
+// a third) from its top to the bottom.
+void DrawFacades(cv::Mat& texture, cv::RNG& rng) {
+  for (int x = 0; x < texture.cols;) {
+    const int width = std::min(rng.uniform(40, 140), texture.cols - x);
+    const int top = rng.uniform(texture.rows / 20, texture.rows * 3 / 5);
+    const cv::Mat block = texture(cv::Rect(x, top, width, texture.rows - top));
+    cv::addWeighted(block, 1.0 / 3, block, 0, rng.uniform(20, 236) * 2.0 / 3, block);
+    x += width;
+  }
+}
+
+}  // namespace
+
+cv::Mat MakeTexture(int width, int height, cv::RNG& rng, bool facades) {
   cv::Mat coarse(height / 16 + 1, width / 16 + 1, CV_8U);
   rng.fill(coarse, cv::RNG::UNIFORM, 60, 190);
   cv::Mat texture;
   cv::resize(coarse, texture, cv::Size(width, height), 0, 0, cv::INTER_CUBIC);
+  if (facades) DrawFacades(texture, rng);
   const int shapes = width * height / 900;
   for (int n = 0; n < shapes; ++n) {
     const cv::Point center(rng.uniform(0, width), rng.uniform(0, height));

@@ -13,8 +13,10 @@
 namespace memloop {
 
 // A gray texture of random shapes of random gray levels over smooth noise: corners and blobs
-// everywhere, and no two places alike.
-cv::Mat MakeTexture(int width, int height, cv::RNG& rng);
+// everywhere, and no two places alike. With `facades`, the shapes lie over a street front:
+// blocks 40-140 pixels wide, each of its own gray and height under a skyline, the structure at a
+// scale of the image that a change of light leaves (the day-night route).
+cv::Mat MakeTexture(int width, int height, cv::RNG& rng, bool facades = false);
 
 // A frame's deviation from its nominal view.
 struct ViewJitter {
