@@ -7,6 +7,7 @@
 #include "detector/bayes_filter.h"
 #include "detector/consistency.h"
 #include "detector/map_editor.h"
+#include "detector/transfer.h"
 #include "small_memory.h"
 #include "storage/long_term_memory.h"
 #include "temp_dir.h"
@@ -28,6 +29,19 @@ struct SmallMap {
         CheckConsistency(memory, ltm, filter, editor.past_matches());
     for (const std::string& line : problems) ADD_FAILURE() << line;
     return problems.empty();
+  }
+
+  // A chain L1 .. L5 of `words` (AddChain) whose L2, L3 and L4 are then transferred to LTM (a WM
+  // budget of 2; L1 the heaviest, L5 immune): the five ids.
+  std::vector<LocationId> ChainWithMiddleInLtm(const std::vector<std::vector<WordId>>& words) {
+    const std::vector<LocationId> ids = AddChain(memory, words);
+    memory.MoveStmOverflowToWm(0);
+    memory.at(ids[0]).weight = 5;
+    TransferTrigger trigger;
+    trigger.max_wm_locations = 2;
+    trigger.dictionary_size_at_start = memory.dictionary().size();
+    Transfer(trigger, {ids[4]}, {}, memory, editor);
+    return ids;
   }
 
   TempDir dir;

@@ -8,6 +8,24 @@
 #include "vocabulary/word_index.h"
 
 namespace memloop {
+namespace {
+
+// The rows `picked` of `descriptors`, in that order.
+cv::Mat RowsOf(const cv::Mat& descriptors, const std::vector<size_t>& picked) {
+  cv::Mat rows;
+  for (size_t row : picked) rows.push_back(descriptors.row(static_cast<int>(row)));
+  return rows;
+}
+
+// The answer `searched` holds for `word`, or null.
+const WordAnswer* AnswerIn(const WordMatches* searched, WordId word) {
+  if (searched == nullptr) return nullptr;
+  const auto answer = searched->find(word);
+  return answer == searched->end() ? nullptr : &answer->second;
+}
+
+}  // namespace
+
 RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTermMemory& ltm,
                               const PrefetchedRows* rows, const WordMatches* searched) {
   RetrievalOutcome outcome;
@@ -16,56 +34,46 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
     if (!dictionary.Contains(word)) missing.push_back(word);
   }
   if (missing.empty()) return outcome;
+  const cv::Mat descriptors =
+      LoadWordDescriptors(missing, dictionary, ltm, rows, location.id, /*required=*/true);
   std::vector<WordId> matches(missing.size(), kNoWord);
-  std::vector<size_t> unanswered;  // rows of `missing` to search now
-  std::vector<WordId> to_search;
-  std::vector<size_t> recheck;  // rows answered "none": compared with the words joined since
-  std::vector<WordId> recheck_words;
+  std::vector<size_t> to_search;  // rows of `missing` to search now
+  std::vector<size_t> recheck;    // rows answered "none": compared with the words joined since
   std::vector<std::pair<float, float>> recheck_found;
   long long recheck_mark = dictionary.JoinMark();
   for (size_t row = 0; row < missing.size(); ++row) {
-    const auto answer =
-        searched != nullptr ? searched->find(missing[row]) : WordMatches::const_iterator();
-    if (searched != nullptr && answer != searched->end()) {
-      const WordAnswer& found = answer->second;
-      if (found.match != kNoWord && dictionary.Contains(found.match)) {
-        matches[row] = found.match;
-        continue;
-      }
-      if (found.match == kNoWord) {
-        recheck.push_back(row);
-        recheck_words.push_back(missing[row]);
-        recheck_found.emplace_back(found.nearest, found.second);
-        recheck_mark = std::min(recheck_mark, found.mark);
-        continue;
-      }
+    const WordAnswer* found = AnswerIn(searched, missing[row]);
+    if (found != nullptr && found->match != kNoWord && dictionary.Contains(found->match)) {
+      matches[row] = found->match;
+    } else if (found != nullptr && found->match == kNoWord) {
+      recheck.push_back(row);
+      recheck_found.emplace_back(found->nearest, found->second);
+      recheck_mark = std::min(recheck_mark, found->mark);
+    } else {  // not searched yet, or the word it matched has left
+      to_search.push_back(row);
     }
-    unanswered.push_back(row);
-    to_search.push_back(missing[row]);
   }
   if (!recheck.empty()) {
-    const std::optional<std::vector<WordId>> since = dictionary.MatchSince(
-        LoadWordDescriptors(recheck_words, dictionary, ltm, rows, location.id, /*required=*/true),
-        recheck_found, recheck_mark);
+    const std::optional<std::vector<WordId>> since =
+        dictionary.MatchSince(RowsOf(descriptors, recheck), recheck_found, recheck_mark);
     for (size_t i = 0; i < recheck.size(); ++i) {
       if (since) {
         matches[recheck[i]] = (*since)[i];
       } else {  // forgotten what joined since: searched again
-        unanswered.push_back(recheck[i]);
-        to_search.push_back(recheck_words[i]);
+        to_search.push_back(recheck[i]);
       }
     }
   }
   if (!to_search.empty()) {
-    const std::vector<WordId> found = dictionary.Match(
-        LoadWordDescriptors(to_search, dictionary, ltm, rows, location.id, /*required=*/true));
-    for (size_t i = 0; i < found.size(); ++i) matches[unanswered[i]] = found[i];
+    const std::vector<WordId> found = dictionary.Match(RowsOf(descriptors, to_search));
+    for (size_t i = 0; i < found.size(); ++i) matches[to_search[i]] = found[i];
   }
   std::vector<WordId> unmatched_ids;
-  cv::Mat unmatched_descriptors;
+  std::vector<size_t> unmatched_rows;
   for (size_t row = 0; row < missing.size(); ++row) {
     if (matches[row] == kNoWord) {
       unmatched_ids.push_back(missing[row]);
+      unmatched_rows.push_back(row);
       continue;
     }
     for (WordId& word : location.signature.words) {
@@ -74,11 +82,7 @@ RetrievalOutcome RematchWords(Location& location, Dictionary& dictionary, LongTe
     ltm.ReplaceWord(missing[row], matches[row]);
     ++outcome.words_replaced;
   }
-  if (!unmatched_ids.empty()) {
-    unmatched_descriptors =
-        LoadWordDescriptors(unmatched_ids, dictionary, ltm, rows, location.id, /*required=*/true);
-  }
-  dictionary.Add(unmatched_ids, unmatched_descriptors);
+  dictionary.Add(unmatched_ids, RowsOf(descriptors, unmatched_rows));
   // Other LTM locations may hold these words too: keep them in LTM when they leave again.
   for (WordId word : unmatched_ids) dictionary.MarkReferencedByLtm(word);
   outcome.words_added = static_cast<int>(unmatched_ids.size());

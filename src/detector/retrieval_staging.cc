@@ -161,8 +161,9 @@ void StagedWordSearch::Finish() {
   done_.wait(lock, [this] { return !busy_; });
   for (size_t i = 0; i < found_.size(); ++i) {
     RetrievalStaging::Staged* staged = staging_->Find(rows_[i].first);
-    if (staged != nullptr)
+    if (staged != nullptr) {
       staged->matches[rows_[i].second] = AnswerOf(*dictionary_, found_[i], mark_);
+    }
   }
   words_searched_ += static_cast<long long>(found_.size());
   dictionary_ = nullptr;

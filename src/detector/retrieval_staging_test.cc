@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "detector/retrieval.h"
-#include "detector/transfer.h"
 #include "small_map.h"
 
 namespace memloop {
@@ -20,13 +19,7 @@ constexpr double kForever = std::numeric_limits<double>::infinity();
 class RetrievalStagingTest : public ::testing::Test {
  protected:
   RetrievalStagingTest() {
-    ids_ = testing::AddChain(memory_, {{1}, {2}, {30, 70}, {40, 70}, {5}});
-    memory_.MoveStmOverflowToWm(0);
-    memory_.at(ids_[0]).weight = 5;
-    TransferTrigger trigger;
-    trigger.max_wm_locations = 2;
-    trigger.dictionary_size_at_start = memory_.dictionary().size();
-    Transfer(trigger, {ids_[4]}, {}, memory_, map_.editor);
+    ids_ = map_.ChainWithMiddleInLtm({{1}, {2}, {30, 70}, {40, 70}, {5}});
     ltm_->Flush();
   }
 

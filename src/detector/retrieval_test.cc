@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include "detector/transfer.h"
 #include "small_map.h"
 
 namespace memloop {
@@ -11,15 +10,8 @@ namespace {
 class RetrievalTest : public ::testing::Test {
  protected:
   RetrievalTest() {
-    // A chain L1 .. L5; L3 and L4 share word 7; L3 also has word 18.
-    ids_ = testing::AddChain(memory_, {{1}, {2}, {3, 7, 18}, {4, 7}, {5}});
-    memory_.MoveStmOverflowToWm(0);
-    // L2, L3, L4 go to LTM (L1 heaviest, L5 immune).
-    memory_.at(ids_[0]).weight = 5;
-    TransferTrigger trigger;
-    trigger.max_wm_locations = 2;
-    trigger.dictionary_size_at_start = memory_.dictionary().size();
-    Transfer(trigger, {ids_[4]}, {}, memory_, map_.editor);
+    // A chain L1 .. L5; L3 and L4 share word 7; L3 also has word 18. L2, L3, L4 go to LTM.
+    ids_ = map_.ChainWithMiddleInLtm({{1}, {2}, {3, 7, 18}, {4, 7}, {5}});
   }
 
   testing::SmallMap map_;

@@ -25,9 +25,9 @@ WholeImageDescriptor DescribeWholeImage(const cv::Mat& gray);
 // Cosine similarity of two descriptors with each cell's 9 bins centred on their mean, in [-1, 1]:
 // gradient energy spread over every orientation (sensor noise, what blur leaves, raised at night
 // everywhere) says nothing of the place, which orientations stand out in a cell does. On the
-// day-night route of tests/day_night_route_test.cc the night image's true place stands out by a
-// z of 3.0 at least against 1.7 with the plain cosine. 0 when either is empty or they differ in
-// size (a location made without the channel).
+// day-night route of tests/day_night_route_test.cc a night image's best match is its day place
+// for 49 of 50 images, 24 with the plain cosine. 0 when either is empty or they differ in size
+// (a location made without the channel).
 double WholeImageSimilarity(const WholeImageDescriptor& a, const WholeImageDescriptor& b);
 
 }  // namespace memloop

@@ -223,7 +223,9 @@ class FlannWordIndex : public WordIndex {
     params.cores = 1;  // threads are search_team_'s: the caller works too (work_team.h)
     // Each query is searched alone and writes only its own rows: the same answers whatever the
     // number of threads.
-    static WorkTeam alone(1);  // no helper: Run works on the caller's thread only
+    // No helper: Run works on the caller's thread and keeps no state, so one is shared by every
+    // index and thread.
+    static WorkTeam alone(1);
     const size_t searched =
         (search.caller_only ? alone : search_team_)
             .Run(
