@@ -130,7 +130,7 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
   if (staged != nullptr) {
     if (wanted) staging->Want(*staged, time.priority);
     if (!SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
-                           time.location.ExpectedMs()) ||
+                           time.location.ExpectedMs(), time.staged_checks) ||
         !time.location.Fits()) {
       ++outcome.deferred;
       return;

@@ -31,6 +31,9 @@ struct RetrievalTime {
   RetrievalStaging* staging = nullptr;
   // Staged locations of a lower priority are searched first beside the next extraction.
   int priority = 0;
+  // Leaves a staged location's search visits (memory.retrieval_kd_checks; 0: the dictionary's).
+  // Staging needs T_time: a run with T_time off searches as the dictionary does.
+  int staged_checks = 0;
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest

@@ -98,14 +98,14 @@ WordAnswer AnswerOf(const Dictionary& dictionary, const std::array<Neighbour, 2>
 }
 
 bool SearchStagedWords(RetrievalStaging::Staged& staged, const Dictionary& dictionary,
-                       LongTermMemory& ltm, const StepDeadline& chunk, double then_ms) {
+                       LongTermMemory& ltm, const StepDeadline& chunk, double then_ms, int checks) {
   const auto [words, descriptors] = UnsearchedWords(staged, dictionary, ltm);
   if (words.empty()) return true;
   if (!chunk.Fits(then_ms)) return false;
   const Stopwatch stopwatch;
   const long long mark = dictionary.JoinMark();
   const auto found =
-      dictionary.Nearest(descriptors, {[&](size_t) { return chunk.Fits(then_ms); }, false});
+      dictionary.Nearest(descriptors, {[&](size_t) { return chunk.Fits(then_ms); }, false, checks});
   // One chunk on one thread: a search of more than one chunk is shared by the threads.
   const size_t threads = found.size() > WordIndex::kSearchChunk ? dictionary.search_threads() : 1;
   chunk.Record(stopwatch.ElapsedMs() * threads * WordIndex::kSearchChunk / found.size());

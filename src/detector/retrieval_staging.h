@@ -92,10 +92,11 @@ std::pair<std::vector<WordId>, cv::Mat> UnsearchedWords(const RetrievalStaging::
                                                         LongTermMemory& ltm);
 
 // Searches the staged location's unsearched words a chunk at a time while `chunk` fits with
-// `then_ms` after it (its StepCost learns a chunk's time on one thread). True when every word has
-// an answer.
+// `then_ms` after it (its StepCost learns a chunk's time on one thread), visiting `checks` leaves
+// (0: the dictionary's). True when every word has an answer.
 bool SearchStagedWords(RetrievalStaging::Staged& staged, const Dictionary& dictionary,
-                       LongTermMemory& ltm, const StepDeadline& chunk, double then_ms);
+                       LongTermMemory& ltm, const StepDeadline& chunk, double then_ms,
+                       int checks = 0);
 
 // The search of staged words beside the image's feature extraction, on a thread of its own: the
 // extraction does not touch the dictionary, and searches only read it. Used as

@@ -30,6 +30,7 @@ RetrievalTime RetrievalStep::TimeOf(const std::function<StepDeadline(StepCost*)>
   if (staged_search_) {
     staging_.StartIteration();
     time.staging = &staging_;
+    time.staged_checks = options_.retrieval_kd_checks;
   }
   return time;
 }
