@@ -5,6 +5,7 @@
 
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
+#include "util/thread_name.h"
 #include "vocabulary/word_index.h"
 
 namespace memloop {
@@ -176,6 +177,7 @@ void StagedWordSearch::WaitUntilIdle() {
 }
 
 void StagedWordSearch::Loop() {
+  NameThisThread("staging");
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return quitting_ || busy_; });

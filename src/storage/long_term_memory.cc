@@ -5,6 +5,7 @@
 
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
+#include "util/thread_name.h"
 
 namespace memloop {
 namespace {
@@ -525,6 +526,7 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
 }
 
 void LongTermMemory::WriterLoop(LtmOptions options) {
+  NameThisThread("writer");
   try {
     LtmDatabase database(path_, LtmDatabase::Mode::kAttach);  // reader_ checked the file
     if (options.max_page_count > 0) database.LimitPages(options.max_page_count);

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "storage/ltm_database.h"
+#include "util/thread_name.h"
 
 namespace memloop {
 namespace {
@@ -107,6 +108,7 @@ size_t LtmReadAhead::kept_bytes() const {
 }
 
 void LtmReadAhead::Loop() {
+  NameThisThread("reader");
   std::unique_ptr<LtmDatabase> database;
   bool unreadable = false;  // the map could not be opened: every request counts as read
   for (;;) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "util/thread_name.h"
+
 namespace memloop {
 
 WorkTeam::WorkTeam(int threads) {
@@ -52,6 +54,7 @@ size_t WorkTeam::Run(size_t count, size_t chunk, const std::function<void(size_t
 }
 
 void WorkTeam::HelperLoop() {
+  NameThisThread("team");
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     work_ready_.wait(lock, [this] { return stopping_ || (work_ != nullptr && next_ < count_); });

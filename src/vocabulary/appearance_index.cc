@@ -6,6 +6,7 @@
 #include <string>
 
 #include "memloop/errors.h"
+#include "util/thread_name.h"
 
 namespace memloop {
 
@@ -48,6 +49,7 @@ void AppearanceIndex::Freeze() {
   // FLANN's builds take turns on its seed (flann_word_index.cc): the same index either way.
   auto build = [kind = kind_, dim = descriptor_dim_, options = index_options_,
                 rows = vocabulary_.clone(), ids = std::move(ids)] {
+    NameThisThread("vocab");
     std::unique_ptr<WordIndex> search = WordIndex::Create(kind, dim, options);
     search->Add(ids, rows);
     return search;

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
+#include "util/thread_name.h"
 #include "util/thread_priority.h"
 #include "util/work_team.h"
 #include "vocabulary/flann_deterministic.h"
@@ -375,6 +376,7 @@ class FlannWordIndex : public WordIndex {
     std::vector<Element>* buffer = &pending.catch_up_buffers.emplace_back();
     pending.caught_up = std::async(std::launch::async, [buffer, rows = std::move(rows), dim = dim(),
                                                         built = std::move(built)]() mutable {
+      NameThisThread("catchup");
       LowerThisThreadsPriority();
       Built index = built.get();
       *buffer = CopyRows(rows, dim);
@@ -430,6 +432,7 @@ class FlannWordIndex : public WordIndex {
     pending_->built = std::async(
         std::launch::async,
         [points, rows = std::move(rows), words_of_points, dim = dim(), options = options_] {
+          NameThisThread("build");
           LowerThisThreadsPriority();  // the per-image thread comes first (thread_priority.h)
           if (!rows.empty()) *points = CopyRows(rows, dim);
           Built built;
@@ -542,6 +545,7 @@ class FlannWordIndex : public WordIndex {
     // captured is destroyed with the future, by whoever releases it last (Retire: this thread).
     retired_ = std::async(std::launch::async,
                           [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
+                            NameThisThread("free");
                             LowerThisThreadsPriority();
                             old = Built();
                             old_buffers.clear();

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# What a long run's state costs per image (issue 39), in minutes instead of the hours a long run
+# takes: the same IMAGES new generated images (places no map has seen) are run twice,
+#   fresh  on a new map;
+#   late   after resuming a copy of MAP (e.g. the time.db bench/scale.sh leaves in OUT), so that
+#          LTM, the map file and the word ids are those of the long run.
+# Prints, per run, the medians of images 1,000 on (the dictionary at its ceiling in both) and the
+# CPU each thread took per image over the same images (/proc; threads are named memloop-<role>),
+# then their ratio late / fresh. The map is copied: MAP itself is not changed.
+# Usage: bench/late_state.sh MAP [IMAGES]
+# Environment: BUILD_DIR=build, TTIME_MS=67 (the fresh run's T_time; the late run has its map's),
+# SEED=99 (of the new images), OUT=folder to keep the CSVs in (default: a temporary one).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+map=${1:?usage: bench/late_state.sh MAP [IMAGES]}
+images=${2:-3000}
+build=${BUILD_DIR:-build}
+out=${OUT:-$(mktemp -d)}
+[ -f "$map" ] || { echo "late_state.sh: $map: no such map" >&2; exit 1; }
+[ "$images" -ge 2000 ] || { echo "late_state.sh: IMAGES must be at least 2000" >&2; exit 1; }
+mkdir -p "$out"
+held=$("$build/memloop" inspect "$map" | sed -n 's/^images: \([0-9]*\).*/\1/p')
+[ -n "$held" ] || { echo "late_state.sh: $map: cannot read its image count" >&2; exit 1; }
+
+echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "map: $map ($held images); $images new images (memloop generate --seed ${SEED:-99})"
+
+rm -rf "$out/new" "$out/after_map"
+"$build/memloop" generate "$out/new" --seed "${SEED:-99}" --places $((images / 10)) \
+  --revisit-every 0 >/dev/null
+# The late run's input: the map's images (never read: resuming skips them), then the new ones.
+mkdir -p "$out/after_map"
+for ((i = 1; i <= held; ++i)); do ln -s "$out/new/images/1.png" "$out/after_map/$i.png"; done
+for ((i = 1; i <= images; ++i)); do
+  ln -s "$out/new/images/$i.png" "$out/after_map/$((held + i)).png"
+done
+
+# CPU (user + system, clock ticks) of each live thread of `pid`, by name, and of the whole process.
+threads_cpu() {
+  echo "process $(awk '{print $14 + $15}' "/proc/$1/stat")"
+  for task in /proc/"$1"/task/*; do
+    local ticks
+    ticks=$(awk '{print $14 + $15}' "$task/stat" 2>/dev/null) && echo "$(cat "$task/comm") $ticks"
+  done
+}
+
+run() {  # name args...
+  local name=$1
+  shift
+  rm -f "$out/$name.csv"
+  "$build/memloop" run "$@" --out "$out/$name.csv" >"$out/$name.txt" 2>&1 &
+  local pid=$!
+  local rows=0
+  while [ "$rows" -lt 1000 ]; do
+    sleep 0.2
+    rows=$([ -f "$out/$name.csv" ] && echo $(($(wc -l <"$out/$name.csv") - 1)) || echo 0)
+    kill -0 "$pid" 2>/dev/null || { cat "$out/$name.txt" >&2; exit 1; }
+  done
+  { echo "rows $rows $(date +%s.%N)"; threads_cpu "$pid"; } >"$out/$name.cpu0"
+  while [ "$rows" -lt $((images - 100)) ]; do
+    sleep 0.2
+    rows=$(($(wc -l <"$out/$name.csv") - 1))
+  done
+  { echo "rows $rows $(date +%s.%N)"; threads_cpu "$pid"; } >"$out/$name.cpu1"
+  wait "$pid"
+}
+
+run fresh "$out/new/images" --db "$out/fresh.db" --set memory.time_limit_ms="${TTIME_MS:-67}"
+cp "$map" "$out/late.db"
+run late "$out/after_map" --db "$out/late.db" --resume
+rm -f "$out"/fresh.db* "$out"/late.db*
+
+python3 - "$out" <<'PY'
+import csv, statistics, sys
+from collections import defaultdict
+out = sys.argv[1]
+ticks_ms = 10.0  # USER_HZ = 100
+
+def cpu(name):
+    def read(path):
+        rows, wall, by = 0, 0.0, defaultdict(int)
+        for line in open(path):
+            key, *values = line.split()
+            if key == 'rows':
+                rows, wall = int(values[0]), float(values[1])
+            else:
+                by[key] += int(values[0])
+        return rows, wall, by
+    r0, w0, a = read(f'{out}/{name}.cpu0')
+    r1, w1, b = read(f'{out}/{name}.cpu1')
+    n = r1 - r0
+    per = {k: (b[k] - a.get(k, 0)) * ticks_ms / n for k in b}
+    return per, (w1 - w0) * 1000 / n
+
+stages = ['iteration_ms', 'signature_ms', 'retrieval_ms', 'checkpoint_ms', 'cpu_ms']
+medians, cpus = {}, {}
+for name in ('fresh', 'late'):
+    rows = list(csv.DictReader(open(f'{out}/{name}.csv')))[1000:]
+    medians[name] = {k: statistics.median(float(r[k] or 0) for r in rows) for k in stages}
+    cpus[name] = cpu(name)
+threads = sorted({k for n in cpus for k in cpus[n][0] if k != 'process'},
+                 key=lambda k: -cpus['late'][0].get(k, 0))
+print()
+print('| run | ' + ' | '.join(k.replace('_ms', '') for k in stages) +
+      ' | wall / image | process CPU / image | ' + ' | '.join(threads) + ' |')
+print('| --- |' + ' ---: |' * (len(stages) + 2 + len(threads)))
+for name in ('fresh', 'late'):
+    per, wall = cpus[name]
+    print(f'| {name} | ' + ' | '.join(f'{medians[name][k]:.2f}' for k in stages) +
+          f' | {wall:.2f} | {per["process"]:.2f} | ' +
+          ' | '.join(f'{per.get(k, 0):.2f}' for k in threads) + ' |')
+ratio = lambda a, b: f'{b / a:.2f}x' if a > 0 else '-'
+print('| late / fresh | ' + ' | '.join(ratio(medians['fresh'][k], medians['late'][k]) for k in stages) +
+      f' | {ratio(cpus["fresh"][1], cpus["late"][1])} | ' +
+      f'{ratio(cpus["fresh"][0]["process"], cpus["late"][0]["process"])} | ' +
+      ' | '.join(ratio(cpus['fresh'][0].get(k, 0), cpus['late'][0].get(k, 0)) for k in threads) + ' |')
+print()
+print('medians of images 1,000 on (ms); CPU per image (ms, user + system) over the same images;'
+      ' threads by name (memloop: the detector)')
+PY
