@@ -35,9 +35,12 @@ for ((i = 1; i <= images; ++i)); do
   ln -s "$out/new/images/$i.png" "$out/after_map/$((held + i)).png"
 done
 
-# CPU (user + system, clock ticks) of each live thread of `pid`, by name, and of the whole process.
+# CPU (user + system, clock ticks) of each live thread of `pid`, by name, and of the whole process;
+# the bytes it read and wrote through system calls (the map file, its log).
 threads_cpu() {
   echo "process $(awk '{print $14 + $15}' "/proc/$1/stat")"
+  awk '$1 == "rchar:" {print "bytes_read", $2} $1 == "wchar:" {print "bytes_written", $2}' \
+    "/proc/$1/io"
   for task in /proc/"$1"/task/*; do
     local ticks
     ticks=$(awk '{print $14 + $15}' "$task/stat" 2>/dev/null) && echo "$(cat "$task/comm") $ticks"
@@ -98,22 +101,26 @@ for name in ('fresh', 'late'):
     rows = list(csv.DictReader(open(f'{out}/{name}.csv')))[1000:]
     medians[name] = {k: statistics.median(float(r[k] or 0) for r in rows) for k in stages}
     cpus[name] = cpu(name)
-threads = sorted({k for n in cpus for k in cpus[n][0] if k != 'process'},
+io = ('bytes_read', 'bytes_written')
+threads = sorted({k for n in cpus for k in cpus[n][0] if k != 'process' and k not in io},
                  key=lambda k: -cpus['late'][0].get(k, 0))
 print()
 print('| run | ' + ' | '.join(k.replace('_ms', '') for k in stages) +
-      ' | wall / image | process CPU / image | ' + ' | '.join(threads) + ' |')
-print('| --- |' + ' ---: |' * (len(stages) + 2 + len(threads)))
+      ' | wall / image | process CPU / image | ' + ' | '.join(threads) +
+      ' | KB read / image | KB written / image |')
+print('| --- |' + ' ---: |' * (len(stages) + 4 + len(threads)))
 for name in ('fresh', 'late'):
     per, wall = cpus[name]
     print(f'| {name} | ' + ' | '.join(f'{medians[name][k]:.2f}' for k in stages) +
           f' | {wall:.2f} | {per["process"]:.2f} | ' +
-          ' | '.join(f'{per.get(k, 0):.2f}' for k in threads) + ' |')
+          ' | '.join(f'{per.get(k, 0):.2f}' for k in threads) + ' | ' +
+          ' | '.join(f'{per[k] / ticks_ms / 1024:.0f}' for k in io) + ' |')
 ratio = lambda a, b: f'{b / a:.2f}x' if a > 0 else '-'
 print('| late / fresh | ' + ' | '.join(ratio(medians['fresh'][k], medians['late'][k]) for k in stages) +
       f' | {ratio(cpus["fresh"][1], cpus["late"][1])} | ' +
       f'{ratio(cpus["fresh"][0]["process"], cpus["late"][0]["process"])} | ' +
-      ' | '.join(ratio(cpus['fresh'][0].get(k, 0), cpus['late'][0].get(k, 0)) for k in threads) + ' |')
+      ' | '.join(ratio(cpus['fresh'][0].get(k, 0), cpus['late'][0].get(k, 0))
+                 for k in threads + list(io)) + ' |')
 print()
 print('medians of images 1,000 on (ms); CPU per image (ms, user + system) over the same images;'
       ' threads by name (memloop: the detector)')

@@ -310,8 +310,7 @@ void LtmDatabase::Commit() { Cached("COMMIT").Run(); }
 void LtmDatabase::WriteLocation(const Location& location) {
   const long long id = location.id;
   for (const char* sql : {"DELETE FROM locations WHERE id=?", "DELETE FROM links WHERE from_id=?",
-                          "DELETE FROM location_images WHERE location_id=?",
-                          "DELETE FROM signature_words WHERE location_id=?"}) {
+                          "DELETE FROM location_images WHERE location_id=?"}) {
     Cached(sql).Bind(1, id).Run();
   }
   Cached("INSERT INTO locations(id, weight) VALUES(?,?)")
@@ -334,6 +333,11 @@ void LtmDatabase::WriteLocation(const Location& location) {
   }
   WriteView(location);
   WriteWholeImage(location);
+  // A location stored again (retrieved, then transferred back) mostly has the signature the map
+  // holds: its rows, and their entries in the word index on pages all over a large map, are then
+  // left as they are (issue 39: storing a location took 0.43 -> 0.85 ms in a 1.9 GB map).
+  if (StoredSignatureIs(id, location.signature)) return;
+  Cached("DELETE FROM signature_words WHERE location_id=?").Bind(1, id).Run();
   auto& word = Cached(
       "INSERT INTO signature_words(location_id, rank, word_id, x, y, size, angle, response,"
       " octave) VALUES(?,?,?,?,?,?,?,?,?)");
@@ -540,6 +544,30 @@ std::optional<std::vector<unsigned char>> LtmDatabase::ReadState(const std::stri
   if (query.Step()) value = query.Blob(0);
   query.Reset();
   return value;
+}
+
+bool LtmDatabase::StoredSignatureIs(LocationId id, const Signature& signature) {
+  auto& words = Cached(
+      "SELECT word_id, x, y, size, angle, response, octave FROM signature_words"
+      " WHERE location_id=? ORDER BY rank");
+  words.Bind(1, static_cast<long long>(id));
+  size_t rank = 0;
+  bool same = true;
+  while (same && words.Step()) {
+    if (rank >= signature.words.size()) {
+      same = false;
+      break;
+    }
+    // As WriteLocation stores them: floats widened to doubles, compared exactly.
+    const cv::KeyPoint& keypoint = signature.keypoints[rank];
+    same = words.Int(0) == signature.words[rank] && words.Double(1) == double{keypoint.pt.x} &&
+           words.Double(2) == double{keypoint.pt.y} && words.Double(3) == double{keypoint.size} &&
+           words.Double(4) == double{keypoint.angle} &&
+           words.Double(5) == double{keypoint.response} && words.Int(6) == keypoint.octave;
+    ++rank;
+  }
+  words.Reset();
+  return same && rank == signature.words.size();
 }
 
 std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {

@@ -141,6 +141,8 @@ class LtmDatabase {
   void CreateAppearanceTables();
   void CreateImageTable();
   bool HasTable(const std::string& name);
+  // Whether the map holds exactly `signature` as location `id`'s words (WriteLocation).
+  bool StoredSignatureIs(LocationId id, const Signature& signature);
   SqliteStatement& Cached(const std::string& sql);
 
   // The format version is also an info row, so that a damaged header is told from a newer map.

@@ -96,6 +96,37 @@ TEST(LtmDatabaseTest, WholeImageDescriptorsAreKeptWithTheirLocation) {
   EXPECT_EQ(database.CountWholeImages(), 0);
 }
 
+// Storing a location again leaves its words' rows alone when the map already holds exactly its
+// signature (a retrieved location transferred back), and replaces them on any difference: a word,
+// a keypoint, more or fewer words, none.
+TEST(LtmDatabaseTest, ALocationStoredAgainHoldsExactlyItsLatestSignature) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  Location location = SampleLocation();
+  database.WriteLocation(location);
+  location.weight = 7;  // the rest unchanged
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature.words[1] = 41;
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature.keypoints[2].angle += 0.5f;
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature = testing::MakeSignature({5, 9, 5, 40, 6});
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature = testing::MakeSignature({5, 9});
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature = Signature();
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+  location.signature = testing::MakeSignature({3});
+  database.WriteLocation(location);
+  ExpectSameLocation(*database.ReadLocation(12), location);
+}
+
 TEST(LtmDatabaseTest, ReplaceWordChangesEveryReferenceAndDropsTheOldWord) {
   testing::TempDir dir;
   LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
