@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -547,27 +548,31 @@ std::optional<std::vector<unsigned char>> LtmDatabase::ReadState(const std::stri
 }
 
 bool LtmDatabase::StoredSignatureIs(LocationId id, const Signature& signature) {
+  Signature stored;
+  ReadSignatureWords(id, stored);
+  // Read back as WriteLocation stored them (floats through doubles): exact.
+  const auto same_keypoint = [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    return a.pt == b.pt && a.size == b.size && a.angle == b.angle && a.response == b.response &&
+           a.octave == b.octave;
+  };
+  return stored.words == signature.words &&
+         std::equal(stored.keypoints.begin(), stored.keypoints.end(), signature.keypoints.begin(),
+                    signature.keypoints.end(), same_keypoint);
+}
+
+void LtmDatabase::ReadSignatureWords(LocationId id, Signature& signature) {
   auto& words = Cached(
       "SELECT word_id, x, y, size, angle, response, octave FROM signature_words"
       " WHERE location_id=? ORDER BY rank");
   words.Bind(1, static_cast<long long>(id));
-  size_t rank = 0;
-  bool same = true;
-  while (same && words.Step()) {
-    if (rank >= signature.words.size()) {
-      same = false;
-      break;
-    }
-    // As WriteLocation stores them: floats widened to doubles, compared exactly.
-    const cv::KeyPoint& keypoint = signature.keypoints[rank];
-    same = words.Int(0) == signature.words[rank] && words.Double(1) == double{keypoint.pt.x} &&
-           words.Double(2) == double{keypoint.pt.y} && words.Double(3) == double{keypoint.size} &&
-           words.Double(4) == double{keypoint.angle} &&
-           words.Double(5) == double{keypoint.response} && words.Int(6) == keypoint.octave;
-    ++rank;
+  while (words.Step()) {
+    signature.words.push_back(static_cast<WordId>(words.Int(0)));
+    signature.keypoints.emplace_back(
+        cv::Point2f(static_cast<float>(words.Double(1)), static_cast<float>(words.Double(2))),
+        static_cast<float>(words.Double(3)), static_cast<float>(words.Double(4)),
+        static_cast<float>(words.Double(5)), static_cast<int>(words.Int(6)));
   }
   words.Reset();
-  return same && rank == signature.words.size();
 }
 
 std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
@@ -592,18 +597,7 @@ std::optional<Location> LtmDatabase::ReadLocation(LocationId id) {
   images.Bind(1, static_cast<long long>(id));
   while (images.Step()) location.images.push_back(static_cast<ImageIndex>(images.Int(0)));
   images.Reset();
-  auto& words = Cached(
-      "SELECT word_id, x, y, size, angle, response, octave FROM signature_words"
-      " WHERE location_id=? ORDER BY rank");
-  words.Bind(1, static_cast<long long>(id));
-  while (words.Step()) {
-    location.signature.words.push_back(static_cast<WordId>(words.Int(0)));
-    location.signature.keypoints.emplace_back(
-        cv::Point2f(static_cast<float>(words.Double(1)), static_cast<float>(words.Double(2))),
-        static_cast<float>(words.Double(3)), static_cast<float>(words.Double(4)),
-        static_cast<float>(words.Double(5)), static_cast<int>(words.Int(6)));
-  }
-  words.Reset();
+  ReadSignatureWords(id, location.signature);
   location.signature.image = ReadView(id);
   location.signature.whole_image = ReadWholeImage(id);
   return location;

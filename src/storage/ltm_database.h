@@ -143,6 +143,8 @@ class LtmDatabase {
   bool HasTable(const std::string& name);
   // Whether the map holds exactly `signature` as location `id`'s words (WriteLocation).
   bool StoredSignatureIs(LocationId id, const Signature& signature);
+  // Appends location `id`'s words and keypoints, in rank order, to `signature`.
+  void ReadSignatureWords(LocationId id, Signature& signature);
   SqliteStatement& Cached(const std::string& sql);
 
   // The format version is also an info row, so that a damaged header is told from a newer map.
