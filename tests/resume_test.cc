@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <thread>
@@ -176,15 +177,68 @@ TEST(ResumeRefusalTest, MapOfAnOlderFormatIsRefusedUntouched) {
   EXPECT_EQ(FileBytes(path), before);
 }
 
-// A map of format 4 (before images and location views were recorded) resumes, and is format 5
-// once its first checkpoint is written.
+// Rewrites a map's LTM marks as maps of format 4-5 hold them: chunks of 65,536 word ids under
+// ltm_marks.N, instead of 4,096 under word_marks.N (each a count of 64-bit blocks, then the
+// blocks). Returns the number of marked words.
+int RewriteMarksAsFormatFive(sqlite3* db) {
+  std::vector<uint64_t> blocks;  // of every id, from id 0
+  sqlite3_stmt* select = nullptr;
+  sqlite3_prepare_v2(db, "SELECT key, value FROM resume_state WHERE key LIKE 'word_marks.%'", -1,
+                     &select, nullptr);
+  while (sqlite3_step(select) == SQLITE_ROW) {
+    const size_t chunk = std::stoul(std::string(
+        reinterpret_cast<const char*>(sqlite3_column_text(select, 0)) + strlen("word_marks.")));
+    const auto* bytes = static_cast<const unsigned char*>(sqlite3_column_blob(select, 1));
+    uint64_t count = 0;
+    std::memcpy(&count, bytes, sizeof(count));
+    if (blocks.size() < chunk * 64 + count) blocks.resize(chunk * 64 + count, 0);
+    std::memcpy(blocks.data() + chunk * 64, bytes + sizeof(count), count * sizeof(uint64_t));
+  }
+  sqlite3_finalize(select);
+  sqlite3_exec(db, "DELETE FROM resume_state WHERE key LIKE 'word_marks.%'", nullptr, nullptr,
+               nullptr);
+  int marked = 0;
+  for (size_t first = 0; first < blocks.size(); first += 1024) {  // 1,024 blocks a chunk
+    const std::vector<uint64_t> chunk(blocks.begin() + first,
+                                      blocks.begin() + std::min(first + 1024, blocks.size()));
+    std::vector<unsigned char> bytes(sizeof(uint64_t) * (chunk.size() + 1));
+    const uint64_t count = chunk.size();
+    std::memcpy(bytes.data(), &count, sizeof(count));
+    std::memcpy(bytes.data() + sizeof(count), chunk.data(), count * sizeof(uint64_t));
+    for (uint64_t block : chunk) marked += __builtin_popcountll(block);
+    sqlite3_stmt* insert = nullptr;
+    sqlite3_prepare_v2(db, "INSERT INTO resume_state(key, value) VALUES(?, ?)", -1, &insert,
+                       nullptr);
+    const std::string key = "ltm_marks." + std::to_string(first / 1024);
+    sqlite3_bind_text(insert, 1, key.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_blob(insert, 2, bytes.data(), static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
+    sqlite3_step(insert);
+    sqlite3_finalize(insert);
+  }
+  return marked;
+}
+
+int CountRows(sqlite3* db, const std::string& query) {
+  int count = -1;
+  sqlite3_exec(
+      db, query.c_str(),
+      [](void* out, int, char** values, char**) {
+        *static_cast<int*>(out) = std::atoi(values[0]);
+        return 0;
+      },
+      &count, nullptr);
+  return count;
+}
+
+// A map of format 4 (before images and location views were recorded, its LTM marks by chunks of
+// 65,536 word ids) resumes with its marks, and is format 6 once its first checkpoint is written.
 TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
   testing::TempDir dir;
   const std::string path = dir.File("map.db");
   const SyntheticRoute route(testing::ShortRoute());
   {
-    Detector detector(WithBudget(20), path);
-    for (int i = 0; i < 30; ++i) detector.Process(route.Render(i), i);
+    Detector detector(WithBudget(5), path);
+    for (int i = 0; i < 60; ++i) detector.Process(route.Render(i), i);
   }
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
@@ -195,24 +249,31 @@ TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
                          "PRAGMA user_version=4;",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
+  EXPECT_GT(RewriteMarksAsFormatFive(db), 0);  // LTM holds locations: their words are marked
   sqlite3_close(db);
   ASSERT_EQ(InspectMap(path).format_version, 4);
   {
-    Detector resumed(WithBudget(20), path, MapMode::kResume);
-    EXPECT_EQ(resumed.last_image(), 29);
+    Detector resumed(WithBudget(5), path, MapMode::kResume);
+    EXPECT_EQ(resumed.last_image(), 59);
     EXPECT_EQ(resumed.session_first_image(), 0);
-    for (int i = 30; i < 40; ++i) resumed.Process(route.Render(i), i);
+    const std::vector<std::string> problems = resumed.CheckConsistency();  // the marks read back
+    EXPECT_TRUE(problems.empty()) << problems.front();
+    for (int i = 60; i < 70; ++i) resumed.Process(route.Render(i), i);
     EXPECT_TRUE(resumed.CheckConsistency().empty());
   }
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(CountRows(db, "SELECT count(*) FROM resume_state WHERE key LIKE 'ltm_marks.%'"), 0);
+  EXPECT_GT(CountRows(db, "SELECT count(*) FROM resume_state WHERE key LIKE 'word_marks.%'"), 0);
+  sqlite3_close(db);
   const MapInfo info = InspectMap(path);
-  EXPECT_EQ(info.format_version, 5);
+  EXPECT_EQ(info.format_version, 6);
   EXPECT_EQ(info.integrity, "ok");
   ASSERT_EQ(info.sessions.size(), 1u);  // the images recorded since
-  EXPECT_EQ(info.sessions[0].first_image, 30);
+  EXPECT_EQ(info.sessions[0].first_image, 60);
   {
-    Detector again(WithBudget(20), path, MapMode::kResume);
+    Detector again(WithBudget(5), path, MapMode::kResume);
     EXPECT_EQ(again.session_first_image(), 0);  // the first session starts at image 0
-    EXPECT_EQ(again.last_image(), 39);
+    EXPECT_EQ(again.last_image(), 69);
   }
 }
 

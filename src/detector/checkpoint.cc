@@ -90,7 +90,11 @@ size_t Hash(const std::vector<unsigned char>& bytes) {
 constexpr const char* kCounters = "counters";
 constexpr const char* kStm = "stm";
 // LTM's marks on the dictionary's words: one key per chunk of WordBitset::kChunkIds word ids.
-std::string MarksKey(size_t chunk) { return "ltm_marks." + std::to_string(chunk); }
+std::string MarksKey(size_t chunk) { return "word_marks." + std::to_string(chunk); }
+// Maps of format 4-5 hold them by chunks of 65,536 ids, under other keys; a full checkpoint (the
+// first of a session) deletes these and writes the new ones.
+constexpr size_t kFormat5MarkChunkIds = 65536;
+std::string Format5MarksKey(size_t chunk) { return "ltm_marks." + std::to_string(chunk); }
 constexpr const char* kIndex = "index";
 constexpr const char* kIndexPending = "index_pending";             // empty: no background build
 constexpr const char* kIndexPendingWords = "index_pending_words";  // its snapshot, once per build
@@ -332,6 +336,23 @@ void ReadIndex(LtmDatabase& database, std::optional<DescriptorFormat> format, Re
   }
 }
 
+// The marks stored by chunks of `chunk_ids` ids under `key`(chunk), appended to `ids`. Chunks
+// can only hold ids the dictionary gave; an absent chunk holds none.
+void ReadMarks(LtmDatabase& database, WordId next_word_id, std::string (*key)(size_t),
+               size_t chunk_ids, std::vector<WordId>& ids) {
+  const size_t chunks =
+      (static_cast<size_t>(std::max<WordId>(next_word_id, 1)) - 1) / chunk_ids + 1;
+  for (size_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::optional<std::vector<unsigned char>> bytes = database.ReadState(key(chunk));
+    if (!bytes) continue;
+    ByteReader reader(*bytes, "the checkpoint's dictionary marks");
+    const std::vector<uint64_t> blocks = reader.GetAll<uint64_t>();
+    reader.ExpectEnd();
+    if (blocks.size() > chunk_ids / 64) throw Error("a chunk of marks is too long");
+    WordBitset::AppendChunkIds(chunk, blocks, ids, chunk_ids);
+  }
+}
+
 void ReadCounters(const std::vector<unsigned char>& bytes, ResumeState& state) {
   ByteReader reader(bytes, "the checkpoint's counters");
   state.counters.last_image = reader.Get<int32_t>();
@@ -351,17 +372,10 @@ ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> for
     for (LocationId id : reader.GetAll<LocationId>()) state.stm.push_back(id);
     reader.ExpectEnd();
   }
-  // Mark chunks can only hold ids the dictionary gave; an absent chunk holds none.
-  const size_t chunks = WordBitset::ChunkOf(std::max<WordId>(state.next_word_id, 1) - 1) + 1;
-  for (size_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::optional<std::vector<unsigned char>> bytes = database.ReadState(MarksKey(chunk));
-    if (!bytes) continue;
-    ByteReader reader(*bytes, "the checkpoint's dictionary marks");
-    const std::vector<uint64_t> blocks = reader.GetAll<uint64_t>();
-    reader.ExpectEnd();
-    if (blocks.size() > WordBitset::kChunkIds / 64) throw Error("a chunk of marks is too long");
-    WordBitset::AppendChunkIds(chunk, blocks, state.words_referenced_by_ltm);
-  }
+  ReadMarks(database, state.next_word_id, MarksKey, WordBitset::kChunkIds,
+            state.words_referenced_by_ltm);
+  ReadMarks(database, state.next_word_id, Format5MarksKey, kFormat5MarkChunkIds,
+            state.words_referenced_by_ltm);
   ReadIndex(database, format, state);
   {
     const std::vector<unsigned char> bytes = RequiredState(database, kFilter);

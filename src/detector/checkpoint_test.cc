@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <map>
 #include <set>
 
@@ -196,30 +197,72 @@ TEST_F(CheckpointWriterTest, FileHoldsExactlyMemorysLocationsAfterRandomChanges)
   }
 }
 
-// LTM's marks on words go by chunks of 65,536 word ids, and a chunk is written again only when
+// LTM's marks on words go by chunks of 4,096 word ids, and a chunk is written again only when
 // one of its marks changed (issue 9: the whole list was written at every image).
 TEST_F(CheckpointWriterTest, LtmMarksAreWrittenOnlyWhenTheirChunkChanged) {
   const auto marks_keys = [](const CheckpointData& checkpoint) {
     std::vector<std::string> keys;
     for (const auto& [key, value] : checkpoint.state) {
-      if (key.rfind("ltm_marks.", 0) == 0) keys.push_back(key);
+      if (key.rfind("word_marks.", 0) == 0) keys.push_back(key);
     }
     return keys;
   };
   AddChain(memory_, {{1, 2}, {2, 3}, {4}});
   memory_.dictionary().MarkReferencedByLtm(2);
-  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"ltm_marks.0"}));  // the first: all
+  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"word_marks.0"}));  // the first: all
   // Next does not clear what changed (the detector does, once the checkpoint is queued).
-  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"ltm_marks.0"}));
+  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"word_marks.0"}));
   memory_.ClearChanged();
   EXPECT_TRUE(marks_keys(Next()).empty());
   memory_.dictionary().MarkReferencedByLtm(2);  // already marked: nothing changed
   EXPECT_TRUE(marks_keys(Next()).empty());
   memory_.dictionary().MarkReferencedByLtm(3);
   const CheckpointData marked = Next();
-  ASSERT_EQ(marks_keys(marked), (std::vector<std::string>{"ltm_marks.0"}));
+  ASSERT_EQ(marks_keys(marked), (std::vector<std::string>{"word_marks.0"}));
   memory_.ClearChanged();
   EXPECT_TRUE(marks_keys(Next()).empty());
+  // Word 9,000 is in chunk 2 (ids 8,192-12,287): only that chunk is written.
+  testing::AddWords(memory_.dictionary(), {9000});
+  memory_.dictionary().MarkReferencedByLtm(9000);
+  EXPECT_EQ(marks_keys(Next()), (std::vector<std::string>{"word_marks.2"}));
+}
+
+// A map of format 5 holds the marks by chunks of 65,536 ids under the keys ltm_marks.N: they are
+// read as such, and the first checkpoint of the session (a full one) replaces them.
+TEST_F(CheckpointWriterTest, MarksOfAFormatFiveMapAreReadAndReplaced) {
+  testing::TempDir dir;
+  LtmDatabase database(dir.File("map.db"), LtmDatabase::Mode::kCreate);
+  AddChain(memory_, {{1, 2}});
+  testing::AddWords(memory_.dictionary(), {5000, 70000});
+  CheckpointData checkpoint = Next();  // no marks yet: no chunk of them
+  // Format 5's bytes, by hand: a count of 64-bit blocks, then the blocks. Word 5,000 is block 78,
+  // bit 8 of chunk 0; word 70,000 (65,536 + 4,464) block 69, bit 48 of chunk 1.
+  const auto chunk = [](size_t block, int bit) {
+    std::vector<uint64_t> blocks(block + 1, 0);
+    blocks[block] = uint64_t{1} << bit;
+    std::vector<unsigned char> bytes(sizeof(uint64_t) * (blocks.size() + 1));
+    const uint64_t count = blocks.size();
+    std::memcpy(bytes.data(), &count, sizeof(count));
+    std::memcpy(bytes.data() + sizeof(count), blocks.data(), sizeof(uint64_t) * blocks.size());
+    return bytes;
+  };
+  checkpoint.state.emplace_back("ltm_marks.0", chunk(78, 8));
+  checkpoint.state.emplace_back("ltm_marks.1", chunk(69, 48));
+  database.WriteCheckpoint(checkpoint);
+
+  Memory reloaded(DescriptorKind::kFloat, 2, Options());
+  EXPECT_EQ(ReadCheckpoint(database, reloaded.dictionary()).words_referenced_by_ltm,
+            (std::vector<WordId>{5000, 70000}));
+
+  memory_.dictionary().MarkReferencedByLtm(5000);
+  memory_.dictionary().MarkReferencedByLtm(70000);
+  database.WriteCheckpoint(CheckpointWriter().Next(memory_, filter_, past_matches_, counters_));
+  EXPECT_FALSE(database.ReadState("ltm_marks.0"));
+  EXPECT_FALSE(database.ReadState("ltm_marks.1"));
+  EXPECT_TRUE(database.ReadState("word_marks.1"));   // 5,000 / 4,096
+  EXPECT_TRUE(database.ReadState("word_marks.17"));  // 70,000 / 4,096
+  EXPECT_EQ(ReadCheckpoint(database, reloaded.dictionary()).words_referenced_by_ltm,
+            (std::vector<WordId>{5000, 70000}));
 }
 
 TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
@@ -367,7 +410,7 @@ TEST_F(CheckpointWriterTest, MapWithoutCheckpointOrWithADamagedOneIsRefused) {
   CheckpointData with_marks = CheckpointWriter().Next(memory_, filter_, past_matches_, counters_);
   bool cut = false;
   for (auto& [key, value] : with_marks.state) {
-    if (key != "ltm_marks.0") continue;
+    if (key != "word_marks.0") continue;
     value.resize(value.size() - 3);
     cut = true;
   }

@@ -52,9 +52,10 @@ class LtmDatabase {
   // (index_descriptors). 4: LTM's marks on the dictionary's words as bitmaps by chunks of word
   // ids (resume_state keys ltm_marks.N), only changed chunks written at each checkpoint.
   // 5: the images (name, time stamp, session) and each location's view image (location_views,
-  // and at the end of a checkpoint's location). A format-4 map is resumed and becomes format 5
-  // with its first checkpoint written.
-  static constexpr int kFormatVersion = 5;
+  // and at the end of a checkpoint's location). 6: the marks by chunks of 4,096 word ids
+  // (resume_state keys word_marks.N). A map of format 4 or 5 is resumed and becomes format 6 with
+  // its first checkpoint written.
+  static constexpr int kFormatVersion = 6;
   static constexpr int kOldestResumable = 4;
 
   enum class Mode {

@@ -62,22 +62,26 @@ class WordBitset {
     return ids;
   }
   // The set in chunks of kChunkIds ids, to be stored in pieces: the checkpoint writes only the
-  // chunks whose ids changed.
-  static constexpr size_t kChunkIds = 65536;
+  // chunks whose ids changed. 4,096 ids (512 bytes): after 50,000 images the ids span 10 million,
+  // and a location transferred back to LTM marks words all over them (issue 39: chunks of 65,536
+  // ids, 8 KB each, made 92 KB of marks a checkpoint). `chunk_ids` (a multiple of 64) reads chunks
+  // of another size: maps of format 4-5 hold chunks of 65,536 ids.
+  static constexpr size_t kChunkIds = 4096;
   static size_t ChunkOf(WordId id) { return static_cast<size_t>(id) / kChunkIds; }
   size_t chunk_count() const { return (blocks_.size() + kChunkBlocks - 1) / kChunkBlocks; }
-  // Chunk `chunk` as 64-bit blocks (block k: ids chunk * kChunkIds + 64 k + bit), without its
+  // Chunk `chunk` as 64-bit blocks (block k: ids chunk * chunk_ids + 64 k + bit), without its
   // trailing empty blocks: an empty chunk has none.
-  std::vector<uint64_t> ChunkBlocks(size_t chunk) const {
-    const size_t begin = std::min(chunk * kChunkBlocks, blocks_.size());
-    size_t end = std::min(begin + kChunkBlocks, blocks_.size());
+  std::vector<uint64_t> ChunkBlocks(size_t chunk, size_t chunk_ids = kChunkIds) const {
+    const size_t chunk_blocks = chunk_ids / 64;
+    const size_t begin = std::min(chunk * chunk_blocks, blocks_.size());
+    size_t end = std::min(begin + chunk_blocks, blocks_.size());
     while (end > begin && blocks_[end - 1] == 0) --end;
     return std::vector<uint64_t>(blocks_.begin() + begin, blocks_.begin() + end);
   }
   // The ids of chunk `chunk` given as ChunkBlocks gives it, appended to `ids` in ascending order.
   static void AppendChunkIds(size_t chunk, const std::vector<uint64_t>& blocks,
-                             std::vector<WordId>& ids) {
-    AppendIds(chunk * kChunkBlocks, blocks.data(), blocks.data() + blocks.size(), ids);
+                             std::vector<WordId>& ids, size_t chunk_ids = kChunkIds) {
+    AppendIds(chunk * (chunk_ids / 64), blocks.data(), blocks.data() + blocks.size(), ids);
   }
   // Removes and returns up to `count` ids, smallest first.
   std::vector<WordId> TakeSmallest(size_t count) {

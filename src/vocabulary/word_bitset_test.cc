@@ -54,27 +54,42 @@ TEST(WordBitsetTest, ListsItsIdsInOrder) {
   EXPECT_EQ(set.Ids().size(), 4u);  // listing takes nothing out
 }
 
-// Chunks of 65,536 ids: id 65,536 + 64 + 3 is chunk 1, block 1, bit 3.
+// Chunks of 4,096 ids: id 4,096 + 64 + 3 is chunk 1, block 1, bit 3.
 TEST(WordBitsetTest, ChunksRoundTripTheirIds) {
   WordBitset set;
   EXPECT_EQ(set.chunk_count(), 0u);
-  for (WordId id : {5, 64, 65536 + 67, 3 * 65536}) set.Insert(id);
+  for (WordId id : {5, 64, 4096 + 67, 3 * 4096}) set.Insert(id);
   ASSERT_EQ(set.chunk_count(), 4u);
   EXPECT_EQ(set.ChunkBlocks(0), (std::vector<uint64_t>{uint64_t{1} << 5, 1}));
   EXPECT_EQ(set.ChunkBlocks(1), (std::vector<uint64_t>{0, uint64_t{1} << 3}));
   EXPECT_TRUE(set.ChunkBlocks(2).empty());  // no id in it: no block
   EXPECT_EQ(set.ChunkBlocks(3), (std::vector<uint64_t>{1}));
   EXPECT_TRUE(set.ChunkBlocks(9).empty());  // past the end
-  set.Erase(3 * 65536);
+  set.Erase(3 * 4096);
   EXPECT_TRUE(set.ChunkBlocks(3).empty());  // trailing empty blocks are left out
   std::vector<WordId> ids;
   for (size_t chunk = 0; chunk < set.chunk_count(); ++chunk) {
     WordBitset::AppendChunkIds(chunk, set.ChunkBlocks(chunk), ids);
   }
   EXPECT_EQ(ids, set.Ids());
-  EXPECT_EQ(ids, (std::vector<WordId>{5, 64, 65536 + 67}));
-  EXPECT_EQ(WordBitset::ChunkOf(65535), 0u);
-  EXPECT_EQ(WordBitset::ChunkOf(65536), 1u);
+  EXPECT_EQ(ids, (std::vector<WordId>{5, 64, 4096 + 67}));
+  EXPECT_EQ(WordBitset::ChunkOf(4095), 0u);
+  EXPECT_EQ(WordBitset::ChunkOf(4096), 1u);
+}
+
+// Chunks of another size (maps of format 4-5: 65,536 ids): id 65,536 + 128 + 1 is that size's
+// chunk 1, block 2, bit 1.
+TEST(WordBitsetTest, ChunksOfAnotherSizeRoundTripTheirIds) {
+  WordBitset set;
+  for (WordId id : {4100, 65536 + 129}) set.Insert(id);
+  const std::vector<uint64_t> first = set.ChunkBlocks(0, 65536);
+  ASSERT_EQ(first.size(), 65u);  // up to block 64 (ids 4,096-4,159)
+  EXPECT_EQ(first[64], uint64_t{1} << 4);
+  EXPECT_EQ(set.ChunkBlocks(1, 65536), (std::vector<uint64_t>{0, 0, uint64_t{1} << 1}));
+  std::vector<WordId> ids;
+  WordBitset::AppendChunkIds(0, first, ids, 65536);
+  WordBitset::AppendChunkIds(1, set.ChunkBlocks(1, 65536), ids, 65536);
+  EXPECT_EQ(ids, (std::vector<WordId>{4100, 65536 + 129}));
 }
 
 }  // namespace
