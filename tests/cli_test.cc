@@ -92,7 +92,7 @@ TEST_F(CliTest, InspectTellsWhatAMapHoldsWithoutChangingIt) {
   const int images = static_cast<int>(std::count(rows.begin(), rows.end(), '\n')) - 1;
   EXPECT_EQ(info["images"], images);
   EXPECT_EQ(info["last_image"], images - 1);
-  EXPECT_EQ(info["format_version"], 5);
+  EXPECT_EQ(info["format_version"], 6);
   EXPECT_EQ(info["integrity"], "ok");
   EXPECT_EQ(info["parameters"]["memory.max_wm_locations"], "30");
   EXPECT_GT(info["ltm_locations"].get<int>(), 0);  // WM 30 made it transfer
