@@ -185,6 +185,12 @@ struct MemoryOptions {
   // How far (standard deviations over LTM's scores) the best LTM location must stand out to be
   // retrieved by appearance.
   double appearance_min_z = 8.0;
+  // ... and at least this many times sqrt(2 ln N), how far the best of N chance scores stands out
+  // (N: LTM's locations; AppearanceMinZ). With appearance_min_z alone, chance offers grew with
+  // LTM: on generated new places, z >= 8 on 0.2% of images at LTM ~400 and 1.9% at LTM 26,000,
+  // each a retrieval that finds nothing (its p99 is 1.9-2.0 sqrt(2 ln N) from 400 to 26,000). 0:
+  // appearance_min_z alone (memloop until 2026-12-04).
+  double appearance_chance_multiple = 2.5;
   // A search by appearance sums the image's rarest entries first, and stops before their
   // postings (LTM locations holding them) pass this many, so that its time stops growing with LTM
   // (BM_AppearanceBest, a million locations: 0.44 ms at 40,000 with the 32,768-entry vocabulary,

@@ -1,12 +1,19 @@
 #include "detector/appearance_retrieval.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "memloop/errors.h"
 
 namespace memloop {
+
+double AppearanceMinZ(const MemoryOptions& options, size_t searched) {
+  if (searched < 2) return options.appearance_min_z;
+  const double chance_best = std::sqrt(2.0 * std::log(static_cast<double>(searched)));
+  return std::max(options.appearance_min_z, options.appearance_chance_multiple * chance_best);
+}
 
 Appearance DescribeNewLocation(AppearanceIndex& appearance, LongTermMemory& ltm,
                                const Signature& signature, const cv::Mat& descriptors,

@@ -3,9 +3,11 @@
 // the map file kept in step.
 #pragma once
 
+#include <cstddef>
 #include <opencv2/core.hpp>
 
 #include "detector/memory.h"
+#include "memloop/options.h"
 #include "storage/long_term_memory.h"
 #include "storage/ltm_database.h"
 #include "vocabulary/appearance_index.h"
@@ -19,6 +21,13 @@ namespace memloop {
 Appearance DescribeNewLocation(AppearanceIndex& appearance, LongTermMemory& ltm,
                                const Signature& signature, const cv::Mat& descriptors,
                                WordId first_new_word);
+
+// The z the best LTM location needs to be retrieved by appearance among `searched` LTM
+// locations: memory.appearance_min_z, or appearance_chance_multiple times sqrt(2 ln N) when that
+// is more. sqrt(2 ln N) is how far the largest of N independent standard normal scores lies
+// above their mean (extreme-value theory); measured here, the best chance z of an image that
+// revisits nothing sits at 1.9-2.0 times it at its 99th percentile from N = 400 to 26,000.
+double AppearanceMinZ(const MemoryOptions& options, size_t searched);
 
 // Resuming: the map's vocabulary and the descriptions of its locations in memory and LTM (LTM's
 // searched). Throws DatabaseError when they are damaged.

@@ -499,13 +499,14 @@ class Detector::Impl {
   }
 
   // Retrieval by appearance: the LTM location that looks most like the image, when it stands out
-  // (memory.appearance_min_z); kNoLocation otherwise.
+  // (memory.appearance_min_z, raised with LTM's size: AppearanceMinZ); kNoLocation otherwise.
   LocationId MatchByAppearance(const Appearance* appearance, Result& result) const {
     if (!appearance_ || appearance == nullptr) return kNoLocation;
     const AppearanceMatch match = appearance_->Best(*appearance);
     result.appearance_match_id = match.id;
     result.appearance_match_z = match.z;
-    return match.z >= options_.memory.appearance_min_z ? match.id : kNoLocation;
+    const double min_z = AppearanceMinZ(options_.memory, appearance_->searched_size());
+    return match.z >= min_z ? match.id : kNoLocation;
   }
 
   // T_time on: a retrieval or a transfer must end under T_time. Off: no deadline. (Ending

@@ -145,6 +145,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(16, 1000000).Help("Entries of the fixed vocabulary (the dictionary's first words) that describes locations for retrieval by appearance"),
     Param("memory.appearance_min_z", MEMLOOP_FIELD(memory.appearance_min_z)).Range(0, 1000)
         .Help("Standard deviations above LTM's mean score the best LTM location needs to be retrieved by appearance"),
+    Param("memory.appearance_chance_multiple", MEMLOOP_FIELD(memory.appearance_chance_multiple)).Range(0, 100)
+        .Help("The best LTM location also needs a z of this many times sqrt(2 ln N), how far the best of N chance scores stands out over N LTM locations, so that chance offers do not grow with LTM (0 = memory.appearance_min_z alone)"),
     Param("memory.appearance_max_postings", MEMLOOP_FIELD(memory.appearance_max_postings)).Unit("postings")
         .Range(0, kHuge).Help("Retrieval by appearance sums the image's rarest vocabulary entries first and stops before their LTM postings pass this many, so that its time does not grow with LTM (0 = every entry)"),
     Param("memory.protect_hypothesis", MEMLOOP_FIELD(memory.protect_hypothesis)).Flag()
