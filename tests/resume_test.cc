@@ -404,7 +404,8 @@ TEST(ResumeCliTest, MapWriteFailureStopsTheRunAndTheMapResumes) {
   EXPECT_LT(CsvRows(csv), CsvRows(dir.File("whole.csv")));
   EXPECT_EQ(IntegrityCheck(map), "ok");
   const Outcome resumed = Memloop("run " + images + " --db " + map + " --out " + csv + " --resume");
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output << "\nthe stopped run's output:\n"
+                                  << log << "rows: " << CsvRows(csv);
   EXPECT_EQ(WithoutTimes(ReadFile(csv)), WithoutTimes(ReadFile(dir.File("whole.csv"))));
 }
 

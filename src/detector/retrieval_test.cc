@@ -98,5 +98,27 @@ TEST_F(RetrievalTest, LocationsWhoseRowsAreNotReadYetAreDeferred) {
   EXPECT_EQ(read.deferred, 0);
 }
 
+// Only what this iteration and the next retrieve is read ahead (2 x max_retrieved, nearest
+// first), not the whole neighbourhood: one at a time, L2 and L3 are requested, not L4.
+TEST_F(RetrievalTest, OnlyTheNextTwoIterationsAreReadAhead) {
+  ltm_->Flush();
+  LtmReadAhead read_ahead(*ltm_);
+  read_ahead.SetHeld(true);
+  StepCost cost;
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &cost);
+  time.read_ahead = &read_ahead;
+  const RetrievalOutcome unread = Retrieve(ids_[0], 1, 4, memory_, *ltm_, time);
+  EXPECT_EQ(unread.deferred, 1);
+  EXPECT_EQ(read_ahead.queued(), 2u);
+  read_ahead.SetHeld(false);
+  EXPECT_EQ(Retrieve(ids_[0], 1, 4, memory_, *ltm_, time).retrieved,
+            (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(Retrieve(ids_[0], 1, 4, memory_, *ltm_, time).retrieved,
+            (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(Retrieve(ids_[0], 1, 4, memory_, *ltm_, time).retrieved,
+            (std::vector<LocationId>{ids_[3]}));  // L4, read when needed
+}
+
 }  // namespace
 }  // namespace memloop
