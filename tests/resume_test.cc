@@ -385,7 +385,10 @@ TEST(ResumeCliTest, MapWriteFailureStopsTheRunAndTheMapResumes) {
   const std::string csv = dir.File("run.csv");
   const pid_t child = fork();
   if (child == 0) {
-    const rlimit limit = {512 * 1024, 512 * 1024};  // bytes per file: the map outgrows it
+    // Bytes per file: the map (~8 MB at the end) outgrows it after ~25 images. The first commit
+    // (the map's creation, image 1 and its checkpoint, and what image 2 queued meanwhile, more
+    // when the writer lags) must fit: at 512 KB it failed under load, before any checkpoint.
+    const rlimit limit = {2 << 20, 2 << 20};
     setrlimit(RLIMIT_FSIZE, &limit);
     signal(SIGXFSZ, SIG_IGN);  // writes past the limit then fail with EFBIG
     freopen(dir.File("log").c_str(), "w", stdout);
