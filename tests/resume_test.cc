@@ -218,16 +218,17 @@ int RewriteMarksAsFormatFive(sqlite3* db) {
   return marked;
 }
 
-int CountRows(sqlite3* db, const std::string& query) {
-  int count = -1;
+// The first value of the first row `query` gives, as text ("no answer" without one).
+std::string FirstValue(sqlite3* db, const std::string& query) {
+  std::string value = "no answer";
   sqlite3_exec(
       db, query.c_str(),
       [](void* out, int, char** values, char**) {
-        *static_cast<int*>(out) = std::atoi(values[0]);
+        *static_cast<std::string*>(out) = values[0] ? values[0] : "null";
         return 0;
       },
-      &count, nullptr);
-  return count;
+      &value, nullptr);
+  return value;
 }
 
 // A map of format 4 (before images and location views were recorded, its LTM marks by chunks of
@@ -262,8 +263,11 @@ TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
     EXPECT_TRUE(resumed.CheckConsistency().empty());
   }
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  EXPECT_EQ(CountRows(db, "SELECT count(*) FROM resume_state WHERE key LIKE 'ltm_marks.%'"), 0);
-  EXPECT_GT(CountRows(db, "SELECT count(*) FROM resume_state WHERE key LIKE 'word_marks.%'"), 0);
+  const auto count = [&](const std::string& where) {
+    return std::stoi(FirstValue(db, "SELECT count(*) FROM resume_state WHERE " + where));
+  };
+  EXPECT_EQ(count("key LIKE 'ltm_marks.%'"), 0);
+  EXPECT_GT(count("key LIKE 'word_marks.%'"), 0);
   sqlite3_close(db);
   const MapInfo info = InspectMap(path);
   EXPECT_EQ(info.format_version, 6);
@@ -281,14 +285,7 @@ TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
 std::string IntegrityCheck(const std::string& path) {
   sqlite3* db = nullptr;
   if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) return "cannot open";
-  std::string verdict = "no answer";
-  sqlite3_exec(
-      db, "PRAGMA integrity_check",
-      [](void* out, int, char** values, char**) {
-        *static_cast<std::string*>(out) = values[0] ? values[0] : "null";
-        return 0;
-      },
-      &verdict, nullptr);
+  const std::string verdict = FirstValue(db, "PRAGMA integrity_check");
   sqlite3_close(db);
   return verdict;
 }
@@ -385,9 +382,9 @@ TEST(ResumeCliTest, MapWriteFailureStopsTheRunAndTheMapResumes) {
   const std::string csv = dir.File("run.csv");
   const pid_t child = fork();
   if (child == 0) {
-    // Bytes per file: the map (~8 MB at the end) outgrows it after ~25 images. The first commit
-    // (the map's creation, image 1 and its checkpoint, and what image 2 queued meanwhile, more
-    // when the writer lags) must fit: at 512 KB it failed under load, before any checkpoint.
+    // Bytes per file: the map (8.8 MB at the end) outgrows it after 13 of 110 images. The first
+    // commit (the map's creation, image 1 and its checkpoint, and what image 2 queued meanwhile,
+    // more when the writer lags) must fit: at 512 KB it failed under load, before any checkpoint.
     const rlimit limit = {2 << 20, 2 << 20};
     setrlimit(RLIMIT_FSIZE, &limit);
     signal(SIGXFSZ, SIG_IGN);  // writes past the limit then fail with EFBIG
