@@ -29,11 +29,16 @@ rm -rf "$out/new" "$out/after_map"
 "$build/memloop" generate "$out/new" --seed "${SEED:-99}" --places $((images / 10)) \
   --revisit-every 0 >/dev/null
 # The late run's input: the map's images (never read: resuming skips them), then the new ones.
-mkdir -p "$out/after_map"
-for ((i = 1; i <= held; ++i)); do ln -s "$out/new/images/1.png" "$out/after_map/$i.png"; done
-for ((i = 1; i <= images; ++i)); do
-  ln -s "$out/new/images/$i.png" "$out/after_map/$((held + i)).png"
-done
+# (One process makes them: a map of 200,000 images is as many links.)
+python3 - "$out" "$held" "$images" <<'PY'
+import os, sys
+out, held, images = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+os.makedirs(f"{out}/after_map")
+for i in range(1, held + 1):
+    os.symlink(f"{out}/new/images/1.png", f"{out}/after_map/{i}.png")
+for i in range(1, images + 1):
+    os.symlink(f"{out}/new/images/{i}.png", f"{out}/after_map/{held + i}.png")
+PY
 
 # CPU (user + system, clock ticks) of each live thread of `pid`, by name, and of the whole process;
 # the bytes it read and wrote through system calls (the map file, its log).

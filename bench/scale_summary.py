@@ -41,11 +41,11 @@ for start in range(0, len(rows), 1000):
 
 # Loop closures from the demo's lines: "image I -> location L: loop closure with location M
 # (image J), p=...  [true]"; through retrieval when M was brought back from LTM before.
-retrieved = set()
-retrieved_before = {}
+first_retrieved = {}  # location -> the image at which it was first retrieved
 for r in rows:
-    retrieved_before[int(r["image"])] = set(retrieved)
-    retrieved.update(int(x) for x in r["retrieved"].split(";") if x)
+    for x in r["retrieved"].split(";"):
+        if x:
+            first_retrieved.setdefault(int(x), int(r["image"]))
 found = false_positives = through_retrieval = 0
 text = open(os.path.join(folder, name + ".txt")).read()
 for image, location, verdict in re.findall(
@@ -54,7 +54,7 @@ for image, location, verdict in re.findall(
         false_positives += 1
         continue
     found += 1
-    through_retrieval += int(location) in retrieved_before.get(int(image), set())
+    through_retrieval += first_retrieved.get(int(location), int(image)) < int(image)
 revisit = re.search(r"(\d+) revisits \((\d+) images\)", text)
 revisit_images = int(revisit.group(2)) if revisit else 0
 # Only the revisit images within the rows written count (the baseline is stopped early).
@@ -111,3 +111,26 @@ print(f"the highest RSS over the first and the second half of the last {tail} im
       f"{rss_half_start:.0f} -> {rss_half_end:.0f} MB ({rss_half_growth:+.1f}%)")
 print(f"revisit images found: {found} of {revisit_images} in the sequence "
       f"({through_retrieval} on locations retrieved from LTM); false positives: {false_positives}")
+
+# What grows with LTM (issue 39): each stage's median over the 1,000 images from the first at which
+# LTM holds 1,000, 10,000, 100,000... locations, and over the last 1,000.
+starts = []
+for size in (1000, 10000, 100000, 1000000):
+    first_at = next((i for i, r in enumerate(rows) if int(r["ltm_size"]) >= size), None)
+    if first_at is not None and first_at + 1000 <= len(rows):
+        starts.append((f"LTM {size:,}", first_at))
+if len(rows) >= 2000:
+    starts.append(("last 1,000", len(rows) - 1000))
+if starts:
+    print("\n| images from | LTM locations | iteration | detector CPU | signature "
+          "| likelihood + filter + selection | retrieval | transfer | checkpoint |")
+    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+for label, start in starts:
+    block = rows[start:start + 1000]
+    def median(*columns):
+        return statistics.median(sum(float(r[c] or 0) for c in columns) for r in block)
+    print(f"| {start + 1:,} ({label}) | {int(block[0]['ltm_size']):,} | {median('iteration_ms'):.2f} "
+          f"| {median('cpu_ms'):.2f} | {median('signature_ms'):.2f} "
+          f"| {median('likelihood_ms', 'filter_ms', 'selection_ms'):.2f} "
+          f"| {median('retrieval_ms'):.2f} | {median('transfer_ms'):.2f} "
+          f"| {median('checkpoint_ms'):.2f} |")
