@@ -162,11 +162,30 @@ void CheckAppearance(const Memory& memory, const LongTermMemory& ltm,
 
 }  // namespace
 
+std::vector<LocationId> LtmLocationsToCheck(const Memory& memory, const LongTermMemory& ltm,
+                                            LtmCheck check, size_t newest) {
+  const std::set<LocationId>& all = ltm.ids();
+  if (check == LtmCheck::kEvery) return {all.begin(), all.end()};
+  std::set<LocationId> chosen;
+  for (const auto& [id, location] : memory.locations()) {
+    for (const auto* links : {&location.neighbours, &location.loop_closures}) {
+      for (LocationId other : *links) {
+        if (all.count(other)) chosen.insert(other);
+      }
+    }
+  }
+  size_t taken = 0;
+  for (auto id = all.rbegin(); id != all.rend() && taken < newest; ++id, ++taken) {
+    chosen.insert(*id);
+  }
+  return {chosen.begin(), chosen.end()};
+}
+
 std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& ltm,
                                           const BayesFilter& filter,
                                           const std::vector<PastMatch>& past_matches,
                                           const AppearanceIndex* appearance, bool whole_image,
-                                          size_t max_problems) {
+                                          size_t max_problems, LtmCheck ltm_check) {
   Problems problems(max_problems);
   for (const auto& [id, location] : memory.locations()) {
     if (location.signature.whole_image.empty() == whole_image) {
@@ -181,7 +200,7 @@ std::vector<std::string> CheckConsistency(const Memory& memory, LongTermMemory& 
     if (problems.full()) break;
     CheckLinks(location, memory, ltm, problems);
   }
-  for (LocationId id : ltm.ids()) {
+  for (LocationId id : LtmLocationsToCheck(memory, ltm, ltm_check)) {
     if (problems.full()) break;
     CheckLtmLocation(id, memory, ltm, problems);
   }
