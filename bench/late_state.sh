@@ -6,7 +6,8 @@
 #          LTM, the map file and the word ids are those of the long run.
 # Prints, per run, the medians of images 1,000 on (the dictionary at its ceiling in both) and the
 # CPU each thread took per image over the same images (/proc; threads are named memloop-<role>),
-# then their ratio late / fresh. The map is copied: MAP itself is not changed.
+# then their ratio late / fresh, and each run's peak RSS. The map is copied: MAP itself is not
+# changed, unless IN_PLACE=1 (a scratch map too large to copy, e.g. bench/pad_map.py's).
 # Usage: bench/late_state.sh MAP [IMAGES]
 # Environment: BUILD_DIR=build, TTIME_MS=67 (the fresh run's T_time; the late run has its map's),
 # SEED=99 (of the new images), OUT=folder to keep the CSVs in (default: a temporary one).
@@ -44,6 +45,7 @@ PY
 # the bytes it read and wrote through system calls (the map file, its log).
 threads_cpu() {
   echo "process $(awk '{print $14 + $15}' "/proc/$1/stat")"
+  echo "peak_rss_kb $(awk '$1 == "VmHWM:" {print $2}' "/proc/$1/status")"
   awk '$1 == "rchar:" {print "bytes_read", $2} $1 == "wchar:" {print "bytes_written", $2}' \
     "/proc/$1/io"
   for task in /proc/"$1"/task/*; do
@@ -74,9 +76,14 @@ run() {  # name args...
 }
 
 run fresh "$out/new/images" --db "$out/fresh.db" --set memory.time_limit_ms="${TTIME_MS:-67}"
-cp "$map" "$out/late.db"
-run late "$out/after_map" --db "$out/late.db" --resume
-rm -f "$out"/fresh.db* "$out"/late.db*
+rm -f "$out"/fresh.db*
+if [ "${IN_PLACE:-0}" = 1 ]; then
+  run late "$out/after_map" --db "$map" --resume
+else
+  cp "$map" "$out/late.db"
+  run late "$out/after_map" --db "$out/late.db" --resume
+  rm -f "$out"/late.db*
+fi
 
 python3 - "$out" <<'PY'
 import csv, statistics, sys
@@ -97,13 +104,18 @@ def cpu(name):
     r0, w0, a = read(f'{out}/{name}.cpu0')
     r1, w1, b = read(f'{out}/{name}.cpu1')
     n = r1 - r0
+    peak_rss_mb = b.pop('peak_rss_kb') / 1024  # a level, not a count: the one at the end
     per = {k: (b[k] - a.get(k, 0)) * ticks_ms / n for k in b}
-    return per, (w1 - w0) * 1000 / n
+    return per, (w1 - w0) * 1000 / n, peak_rss_mb
 
-stages = ['iteration_ms', 'signature_ms', 'retrieval_ms', 'checkpoint_ms', 'cpu_ms']
+stages = ['iteration_ms', 'signature_ms', 'wm_stages_ms', 'retrieval_ms', 'checkpoint_ms',
+          'cpu_ms']
+wm_stages = ('likelihood_ms', 'filter_ms', 'selection_ms')  # those that walk WM
 medians, cpus = {}, {}
 for name in ('fresh', 'late'):
     rows = list(csv.DictReader(open(f'{out}/{name}.csv')))[1000:]
+    for r in rows:
+        r['wm_stages_ms'] = sum(float(r[k] or 0) for k in wm_stages)
     medians[name] = {k: statistics.median(float(r[k] or 0) for r in rows) for k in stages}
     cpus[name] = cpu(name)
 io = ('bytes_read', 'bytes_written')
@@ -112,20 +124,21 @@ threads = sorted({k for n in cpus for k in cpus[n][0] if k != 'process' and k no
 print()
 print('| run | ' + ' | '.join(k.replace('_ms', '') for k in stages) +
       ' | wall / image | process CPU / image | ' + ' | '.join(threads) +
-      ' | KB read / image | KB written / image |')
-print('| --- |' + ' ---: |' * (len(stages) + 4 + len(threads)))
+      ' | KB read / image | KB written / image | peak RSS MB |')
+print('| --- |' + ' ---: |' * (len(stages) + 5 + len(threads)))
 for name in ('fresh', 'late'):
-    per, wall = cpus[name]
+    per, wall, rss = cpus[name]
     print(f'| {name} | ' + ' | '.join(f'{medians[name][k]:.2f}' for k in stages) +
           f' | {wall:.2f} | {per["process"]:.2f} | ' +
           ' | '.join(f'{per.get(k, 0):.2f}' for k in threads) + ' | ' +
-          ' | '.join(f'{per[k] / ticks_ms / 1024:.0f}' for k in io) + ' |')
+          ' | '.join(f'{per[k] / ticks_ms / 1024:.0f}' for k in io) + f' | {rss:.0f} |')
 ratio = lambda a, b: f'{b / a:.2f}x' if a > 0 else '-'
 print('| late / fresh | ' + ' | '.join(ratio(medians['fresh'][k], medians['late'][k]) for k in stages) +
       f' | {ratio(cpus["fresh"][1], cpus["late"][1])} | ' +
       f'{ratio(cpus["fresh"][0]["process"], cpus["late"][0]["process"])} | ' +
       ' | '.join(ratio(cpus['fresh'][0].get(k, 0), cpus['late'][0].get(k, 0))
-                 for k in threads + list(io)) + ' |')
+                 for k in threads + list(io)) +
+      f' | {ratio(cpus["fresh"][2], cpus["late"][2])} |')
 print()
 print('medians of images 1,000 on (ms); CPU per image (ms, user + system) over the same images;'
       ' threads by name (memloop: the detector)')

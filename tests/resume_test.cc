@@ -409,6 +409,72 @@ TEST(ResumeCliTest, MapWriteFailureStopsTheRunAndTheMapResumes) {
   EXPECT_EQ(WithoutTimes(ReadFile(csv)), WithoutTimes(ReadFile(dir.File("whole.csv"))));
 }
 
+// bench/pad_map.py (issue 39: a million LTM locations without two million images) adds copies
+// of a map's LTM: the padded map passes SQLite's check, holds (copies + 1) x the LTM, and a run
+// resumes on it. Kept here so that a change of the map's format that the script misses fails.
+TEST(ResumeCliTest, PaddedMapHoldsCopiesOfLtmAndResumes) {
+  testing::TempDir dir;
+  SyntheticRoute(ShortRoute()).Write(dir.path().string());
+  const std::string images = dir.File("images");
+  fs::create_directories(dir.File("first"));
+  for (int image = 1; image <= 70; ++image) {
+    const std::string name = "/" + std::to_string(image) + ".png";
+    fs::create_symlink(images + name, dir.File("first") + name);
+  }
+  // A run CSV's column `name` in its first or last row.
+  const auto cell = [](const std::string& csv, const std::string& name, bool last) {
+    std::istringstream lines(ReadFile(csv));
+    std::string header, row, line;
+    std::getline(lines, header);
+    while (std::getline(lines, line)) {
+      if (row.empty() || last) row = line;
+    }
+    std::istringstream names(header), cells(row);
+    for (std::string column, value; std::getline(names, column, ',');) {
+      std::getline(cells, value, ',');
+      if (column == name) return std::stoi(value);
+    }
+    return -1;
+  };
+  // Stored locations, as inspect counts them (LTM and, since the close, STM and WM).
+  const auto stored = [](const std::string& path) {
+    const std::string info = Memloop("inspect " + path).output;
+    const size_t at = info.find("locations: ");
+    return at == std::string::npos ? -1 : std::stoi(info.substr(at + 11));
+  };
+  const std::string map = dir.File("map.db");
+  const std::string settings =
+      " --set memory.time_limit_ms=0 memory.stm_size=5 memory.max_wm_locations=10";
+  const std::string first = "run " + dir.File("first") + settings + " --db " + map;
+  ASSERT_EQ(Memloop(first + " --out " + dir.File("first.csv")).exit_code, 0);
+  const int ltm = cell(dir.File("first.csv"), "ltm_size", true);
+  ASSERT_GT(ltm, 10);  // 70 images, STM 5, WM 10: most locations have left memory
+
+  const std::string pad = std::string("python3 ") + MEMLOOP_SOURCE_DIR + "/bench/pad_map.py ";
+  const std::string padded = dir.File("padded.db");
+  const int stored_before = stored(map);
+  ASSERT_EQ(std::system((pad + map + " " + padded + " 2 >/dev/null").c_str()), 0);
+  EXPECT_EQ(stored(padded), stored_before + 2 * ltm);  // LTM's copies, not memory's
+  EXPECT_EQ(IntegrityCheck(padded), "ok");
+  EXPECT_EQ(stored(map), stored_before);  // the source is read, not changed
+
+  const std::string csv = dir.File("resumed.csv");
+  const Outcome resumed = Memloop("run " + images + " --db " + padded + " --resume --out " + csv);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(CsvRows(csv), 110 - 70);
+  // The copies are LTM to the resumed run (3 x ltm at its start; one image moves a few).
+  EXPECT_GT(cell(csv, "ltm_size", false), 3 * ltm - 5);
+
+  // Refusals: a missing map, an output that exists (never overwritten).
+  EXPECT_NE(
+      std::system((pad + dir.File("none.db") + " " + dir.File("x.db") + " 2 2>/dev/null").c_str()),
+      0);
+  EXPECT_FALSE(fs::exists(dir.File("x.db")));
+  const int resumed_map = stored(padded);
+  EXPECT_NE(std::system((pad + map + " " + padded + " 2 2>/dev/null").c_str()), 0);
+  EXPECT_EQ(stored(padded), resumed_map);
+}
+
 TEST(ResumeCliTest, UsageAndRefusals) {
   testing::TempDir dir;
   SyntheticRouteOptions tiny = ShortRoute();

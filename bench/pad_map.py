@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""A map whose LTM holds a million locations, without the two million images a run would take.
+
+Issue 39 asks for each stage's median at 1,000,000 LTM locations. bench/scale.sh fills LTM at about
+one location every two images, and its map grows ~37 KB an image: a real million would take two
+days and ~75 GB. This script copies a map (e.g. the time.db of `bench/scale.sh 18300`) and adds
+COPIES copies of its LTM: each copied location keeps its words, word positions, images, weight,
+description for the search by appearance, and the links among LTM locations, under ids shifted by
+k x (the map's next id). The next id in the checkpoint moves past them, so that a run resumed on the
+result (bench/late_state.sh) adds its locations after the copies. The copies reference the same
+dictionary words as the originals; they are not linked to WM, so they come back only through the
+search by appearance.
+
+What this measures: every per-image cost that depends on how many LTM locations there are (the
+search by appearance, the graph and id structures held in memory, SQLite's B-trees, the checkpoint),
+not what depends on the number of distinct words in the map file (the copies add none).
+
+Usage: bench/pad_map.py MAP OUT COPIES   (MAP is read only; OUT must not exist)
+"""
+import os
+import shutil
+import sqlite3
+import struct
+import sys
+import time
+
+# The checkpoint's counters (src/detector/checkpoint.cc, kCounters): last image (int32), images
+# processed (int64), newest location (int32), next location id (int32), next word id (int32).
+COUNTERS = struct.Struct("<iqiii")
+
+# Tables with one row per location (or several, keyed by it) and the columns after the id.
+PER_LOCATION = {
+    "locations": ("id", "weight"),
+    "location_images": ("location_id", "rank, image"),
+    "signature_words": ("location_id", "rank, word_id, x, y, size, angle, response, octave"),
+    "appearances": ("location_id", "entries"),
+    "whole_images": ("location_id", "descriptor"),
+    "location_views": ("location_id", "image"),
+}
+
+
+def fail(message):
+    sys.exit(f"pad_map.py: {message}")
+
+
+def main():
+    if len(sys.argv) != 4:
+        fail("usage: bench/pad_map.py MAP OUT COPIES")
+    source, target, copies = sys.argv[1], sys.argv[2], int(sys.argv[3])
+    if not os.path.isfile(source):
+        fail(f"{source}: no such map")
+    if os.path.exists(source + "-wal") and os.path.getsize(source + "-wal") > 0:
+        fail(f"{source}: its log {source}-wal is not empty (is a run still writing it?)")
+    if os.path.exists(target):
+        fail(f"{target}: already exists")
+    if copies < 1:
+        fail("COPIES must be at least 1")
+    shutil.copyfile(source, target)
+    db = sqlite3.connect(target, isolation_level=None)
+    db.execute("PRAGMA journal_mode=DELETE")
+    db.execute("PRAGMA synchronous=OFF")
+    tables = {row[0] for row in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+    row = db.execute("SELECT value FROM resume_state WHERE key='counters'").fetchone()
+    if row is None or len(row[0]) != COUNTERS.size:
+        fail(f"{source}: no checkpoint counters of the expected size (format changed?)")
+    last_image, processed, newest, next_id, next_word = COUNTERS.unpack(row[0])
+    # LTM: the stored locations but those in WM or STM at the checkpoint (a retrieved location
+    # keeps its rows; its words are the dictionary's, held by WM, not LTM).
+    db.execute("CREATE TEMP TABLE ltm(id INTEGER PRIMARY KEY)")
+    db.execute("INSERT INTO ltm SELECT id FROM locations "
+               "WHERE id NOT IN (SELECT id FROM memory_locations)")
+    ltm = db.execute("SELECT count(*) FROM ltm").fetchone()[0]
+    print(f"{source}: {ltm} LTM locations, next id {next_id}; adding {copies} copies", flush=True)
+    for k in range(1, copies + 1):
+        start = time.time()
+        shift = k * next_id
+        db.execute("BEGIN")
+        for table, (key, columns) in PER_LOCATION.items():
+            if table not in tables:
+                continue
+            db.execute(f"INSERT INTO {table} SELECT {key} + ?, {columns} FROM {table} "
+                       f"WHERE {key} IN (SELECT id FROM temp.ltm) ORDER BY {key}", (shift,))
+        # Links among the original LTM locations (not those to WM, which the copies do not join).
+        db.execute("INSERT INTO links SELECT from_id + ?, to_id + ?, type FROM links "
+                   "WHERE from_id IN (SELECT id FROM temp.ltm) "
+                   "AND to_id IN (SELECT id FROM temp.ltm)", (shift, shift))
+        db.execute("COMMIT")
+        print(f"copy {k}: {time.time() - start:.0f} s, "
+              f"{os.path.getsize(target) / 1e9:.1f} GB", flush=True)
+    counters = COUNTERS.pack(last_image, processed, newest, (copies + 1) * next_id, next_word)
+    db.execute("UPDATE resume_state SET value=? WHERE key='counters'", (counters,))
+    total = db.execute("SELECT count(*) FROM locations "
+                       "WHERE id NOT IN (SELECT id FROM memory_locations)").fetchone()[0]
+    db.close()
+    print(f"{target}: {total} LTM locations, next id {(copies + 1) * next_id}")
+
+
+if __name__ == "__main__":
+    main()
