@@ -37,7 +37,8 @@ constexpr const char* kHeader =
     "features,words,"
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
-    "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session,features_skipped";
+    "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session,features_skipped,appearance_match,"
+    "appearance_z";
 
 // Seconds to the microsecond (TUM's resolution; EuRoC's nanoseconds are beyond a double's
 // precision at today's epoch anyway); empty when unknown.
@@ -174,7 +175,13 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
       << result.wm_size << ',' << result.ltm_size << ',' << result.dictionary_size << ','
       << Join(result.retrieved_ids) << ',' << Join(result.transferred_ids) << ',' << t.ltm_wait_ms
       << ',' << t.cpu_ms << ',' << t.ltm_read_ms << ',' << FormatTimestamp(result.timestamp) << ','
-      << result.session << ',' << result.features_skipped << '\n';
+      << result.session << ',' << result.features_skipped << ',';
+  if (result.appearance_match_id != kNoLocation) {
+    row << result.appearance_match_id << ',' << result.appearance_match_z;
+  } else {
+    row << ',';
+  }
+  row << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
