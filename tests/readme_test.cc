@@ -3,12 +3,14 @@
 // test's own) and must succeed, so the README cannot drift from the tool.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_helpers.h"
+#include "memloop/run_csv.h"
 #include "temp_dir.h"
 
 namespace memloop {
@@ -40,14 +42,6 @@ std::vector<std::string> QuickStartCommands(const std::string& readme, const std
   return commands;
 }
 
-// The cells of a CSV line without quoted commas (a run CSV's names are file names).
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::istringstream in(line + ",");
-  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-  return cells;
-}
-
 // Runs the commands of the README's block after `heading` in `dir` (for /tmp/).
 void RunBlock(const std::string& heading, size_t min_commands, const testing::TempDir& dir) {
   const std::string readme = testing::ReadBytes(std::string(MEMLOOP_SOURCE_DIR) + "/README.md");
@@ -74,16 +68,9 @@ TEST(ReadmeTest, RobotDataCommandsRunAsWritten) {
   RunBlock("## Robot data", 5, dir);
   EXPECT_TRUE(Contains(ReadFile(dir.File("out.txt")), "exported "));  // the last command
   EXPECT_TRUE(Contains(ReadFile(dir.File("loops.g2o")), "\nEDGE_SE3:QUAT "));
-  // Session 1's rows: the column `session` holds 1 in some row.
-  std::istringstream rows(ReadFile(dir.File("again.csv")));
-  std::string header, row;
-  std::getline(rows, header);
-  const auto names = Split(header);
-  const size_t session = std::find(names.begin(), names.end(), "session") - names.begin();
-  ASSERT_LT(session, names.size()) << header;
-  bool second_session = false;
-  while (std::getline(rows, row)) second_session |= Split(row).at(session) == "1";
-  EXPECT_TRUE(second_session);
+  const std::vector<RunRow> rows = ReadRunCsv(dir.File("again.csv"));
+  EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
+                          [](const RunRow& row) { return row.session == 1; }));  // session 1's
 }
 
 }  // namespace

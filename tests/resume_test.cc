@@ -17,6 +17,7 @@
 #include "cli_helpers.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
+#include "memloop/run_csv.h"
 #include "memloop/synthetic_route.h"
 #include "short_route.h"
 #include "temp_dir.h"
@@ -421,21 +422,6 @@ TEST(ResumeCliTest, PaddedMapHoldsCopiesOfLtmAndResumes) {
     const std::string name = "/" + std::to_string(image) + ".png";
     fs::create_symlink(images + name, dir.File("first") + name);
   }
-  // A run CSV's column `name` in its first or last row.
-  const auto cell = [](const std::string& csv, const std::string& name, bool last) {
-    std::istringstream lines(ReadFile(csv));
-    std::string header, row, line;
-    std::getline(lines, header);
-    while (std::getline(lines, line)) {
-      if (row.empty() || last) row = line;
-    }
-    std::istringstream names(header), cells(row);
-    for (std::string column, value; std::getline(names, column, ',');) {
-      std::getline(cells, value, ',');
-      if (column == name) return std::stoi(value);
-    }
-    return -1;
-  };
   // Stored locations, as inspect counts them (LTM and, since the close, STM and WM).
   const auto stored = [](const std::string& path) {
     const std::string info = Memloop("inspect " + path).output;
@@ -447,7 +433,7 @@ TEST(ResumeCliTest, PaddedMapHoldsCopiesOfLtmAndResumes) {
       " --set memory.time_limit_ms=0 memory.stm_size=5 memory.max_wm_locations=10";
   const std::string first = "run " + dir.File("first") + settings + " --db " + map;
   ASSERT_EQ(Memloop(first + " --out " + dir.File("first.csv")).exit_code, 0);
-  const int ltm = cell(dir.File("first.csv"), "ltm_size", true);
+  const int ltm = ReadRunCsv(dir.File("first.csv")).back().ltm_size;
   ASSERT_GT(ltm, 10);  // 70 images, STM 5, WM 10: most locations have left memory
 
   const std::string pad = std::string("python3 ") + MEMLOOP_SOURCE_DIR + "/bench/pad_map.py ";
@@ -463,7 +449,7 @@ TEST(ResumeCliTest, PaddedMapHoldsCopiesOfLtmAndResumes) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_EQ(CsvRows(csv), 110 - 70);
   // The copies are LTM to the resumed run (3 x ltm at its start; one image moves a few).
-  EXPECT_GT(cell(csv, "ltm_size", false), 3 * ltm - 5);
+  EXPECT_GT(ReadRunCsv(csv).front().ltm_size, 3 * ltm - 5);
 
   // Refusals: a missing map, an output that exists (never overwritten).
   EXPECT_NE(

@@ -52,6 +52,7 @@ struct RunRow {
   // likelihood + filter + selection: the stages that grow with WM (0 in CSVs without them).
   double wm_stages_ms = 0;
   int wm_size = 0;
+  int ltm_size = 0;  // 0 in CSVs without it
   int dictionary_size = 0;
   double timestamp = kNoTimestamp;  // seconds; unknown in CSVs without it
   int session = 0;

@@ -315,6 +315,7 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
       if (column.count(stage)) row.wm_stages_ms += real_of(stage, 0, 1e12);
     }
     row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
+    if (column.count("ltm_size")) row.ltm_size = static_cast<int>(integer_of("ltm_size", kMaxId));
     row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));
     if (column.count("timestamp") && !text("timestamp").empty()) {
       row.timestamp = real_of("timestamp", -1e12, 1e12);

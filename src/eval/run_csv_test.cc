@@ -27,6 +27,7 @@ TEST(RunCsvTest, WrittenRowsReadBack) {
   second.hypothesis_value = 0.375;
   second.hypothesis_images = {0, 1};
   second.wm_size = 17;
+  second.ltm_size = 4321;
   second.dictionary_size = 900;
   {
     RunCsvWriter writer(path);
@@ -43,6 +44,7 @@ TEST(RunCsvTest, WrittenRowsReadBack) {
   EXPECT_EQ(rows[1].hypothesis_value, 0.375);
   EXPECT_EQ(rows[1].hypothesis_images, (std::vector<ImageIndex>{0, 1}));
   EXPECT_EQ(rows[1].wm_size, 17);
+  EXPECT_EQ(rows[1].ltm_size, 4321);
   EXPECT_EQ(rows[1].dictionary_size, 900);
 }
 
