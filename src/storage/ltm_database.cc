@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
+#include "storage/map_integrity.h"
 
 namespace memloop {
 namespace {
@@ -94,29 +95,6 @@ std::string ReadText(SqliteConnection& connection, const std::string& sql) {
   }
 }
 
-// SQLite's quick_check in one line: empty when it finds nothing wrong, else the first problem and
-// how many there are (its report is one line per problem, up to 100, after a header line).
-std::string QuickCheckProblems(SqliteConnection& connection) {
-  SqliteStatement check(connection, "PRAGMA quick_check");
-  std::vector<std::string> problems;
-  try {
-    while (check.Step()) {
-      std::istringstream lines(check.Text(0));
-      for (std::string line; std::getline(lines, line);) {
-        if (!line.empty() && line != "ok" && line.rfind("*** in database", 0) != 0)
-          problems.push_back(line);
-      }
-    }
-  } catch (const DatabaseError&) {  // the check itself stopped on a damaged page
-    if (problems.empty()) problems.push_back(sqlite3_errmsg(connection.handle()));
-  }
-  if (problems.empty()) return "";
-  if (problems.size() == 1) return problems.front();
-  const std::string count =
-      problems.size() >= 100 ? "100 or more" : std::to_string(problems.size());
-  return count + " problems found by SQLite's quick_check, the first: " + problems.front();
-}
-
 }  // namespace
 
 int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
@@ -178,7 +156,7 @@ int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
                         "another --db path (the existing map is left untouched)");
   }
   if (mode != Mode::kAttach && mode != Mode::kPeek) {
-    const std::string problems = QuickCheckProblems(connection);
+    const std::string problems = MapIntegrityProblems(connection, path);
     if (!problems.empty()) throw DatabaseError(path, "the map is damaged (" + problems + ")");
   }
   return version;

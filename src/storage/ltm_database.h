@@ -70,6 +70,7 @@ class LtmDatabase {
   // Throws DatabaseError naming the file: not a regular file, not SQLite, not memloop's, newer
   // format, damaged header or content, or (kCreate) already holding a map. A refused file is never
   // written to: it is checked through a read-only connection first.
+  // kOpen and kRead check the content too (map_integrity.h: once per unchanged file).
   LtmDatabase(const std::string& path, Mode mode);
 
   // SQLite max_page_count: writes past it fail as on a full disk (tests).

@@ -1,6 +1,8 @@
 #include "storage/ltm_database.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +12,7 @@
 
 #include "memloop/errors.h"
 #include "small_memory.h"
+#include "storage/map_integrity.h"
 #include "temp_dir.h"
 
 namespace memloop {
@@ -287,6 +290,48 @@ TEST_F(RefusedDatabaseTest, Damaged) {
   for (size_t i = 8192; i < 16384; ++i) bytes[i] = static_cast<char>(i * 31);
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   ExpectRefused(path, "damaged", LtmDatabase::Mode::kOpen);
+}
+
+// The check reads the whole file (~10 minutes at 63 GB): a file opened again unchanged is not
+// read again; a file changed since, or written just before its check, is.
+TEST_F(RefusedDatabaseTest, IntegrityCheckedOncePerUnchangedFile) {
+  const std::string path = dir_.File("map.db");
+  {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    for (int id = 1; id <= 300; ++id) {
+      Location location = SampleLocation();
+      location.id = id;
+      database.WriteLocation(location);
+    }
+  }
+  // Written an hour ago: a map resumed later.
+  const auto age = [](const std::string& file) {
+    if (!std::filesystem::exists(file)) return;
+    const timespec hour_ago[2] = {{time(nullptr) - 3600, 0}, {time(nullptr) - 3600, 0}};
+    ASSERT_EQ(utimensat(AT_FDCWD, file.c_str(), hour_ago, 0), 0);
+  };
+  age(path);
+  age(path + "-wal");
+  const long long before = MapIntegrityChecksRun();
+  EXPECT_EQ(LtmDatabase(path, LtmDatabase::Mode::kRead).CountLocations(), 300);
+  EXPECT_EQ(MapIntegrityChecksRun(), before + 1);
+  EXPECT_EQ(LtmDatabase(path, LtmDatabase::Mode::kRead).CountLocations(), 300);
+  EXPECT_EQ(MapIntegrityChecksRun(), before + 1);  // unchanged: not read again
+
+  // Written just now: checked at every opening (a write in the same clock tick keeps the time).
+  const std::string fresh = dir_.File("fresh.db");
+  { LtmDatabase database(fresh, LtmDatabase::Mode::kCreate); }
+  LtmDatabase(fresh, LtmDatabase::Mode::kRead);
+  LtmDatabase(fresh, LtmDatabase::Mode::kRead);
+  EXPECT_EQ(MapIntegrityChecksRun(), before + 3);
+
+  // Damaged since: checked again, and refused.
+  std::string bytes = ReadBytes(path);
+  ASSERT_GT(bytes.size(), 16384u);
+  for (size_t i = 8192; i < 16384; ++i) bytes[i] = static_cast<char>(i * 31);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  ExpectRefused(path, "damaged", LtmDatabase::Mode::kRead);
+  EXPECT_EQ(MapIntegrityChecksRun(), before + 4);
 }
 
 }  // namespace
