@@ -291,6 +291,15 @@ std::string IntegrityCheck(const std::string& path) {
   return verdict;
 }
 
+// The first value `query` answers on the map at `path`, as a number (-1: no answer).
+long long QueryNumber(const std::string& path, const std::string& query) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) return -1;
+  const std::string value = FirstValue(db, query);
+  sqlite3_close(db);
+  return value == "no answer" ? -1 : std::stoll(value);
+}
+
 TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
   testing::TempDir dir;
   SyntheticRoute(ShortRoute()).Write(dir.path().string());
@@ -441,6 +450,19 @@ TEST(ResumeCliTest, PaddedMapHoldsCopiesOfLtmAndResumes) {
   const int stored_before = stored(map);
   ASSERT_EQ(std::system((pad + map + " " + padded + " 2 >/dev/null").c_str()), 0);
   EXPECT_EQ(stored(padded), stored_before + 2 * ltm);  // LTM's copies, not memory's
+  // Each copy has words of its own, as many as LTM's locations hold, each held as often as its
+  // original: no word is held by more LTM locations than before.
+  const std::string ltm_words =
+      "SELECT count(DISTINCT word_id) FROM signature_words WHERE location_id NOT IN "
+      "(SELECT id FROM memory_locations)";
+  const std::string most_held =
+      "SELECT max(n) FROM (SELECT count(*) AS n FROM signature_words GROUP BY word_id)";
+  const long long words_before = QueryNumber(map, "SELECT count(*) FROM words");
+  const long long words_of_ltm = QueryNumber(map, ltm_words);
+  ASSERT_GT(words_of_ltm, 100);
+  EXPECT_EQ(QueryNumber(padded, "SELECT count(*) FROM words"), words_before + 2 * words_of_ltm);
+  EXPECT_EQ(QueryNumber(padded, ltm_words), 3 * words_of_ltm);
+  EXPECT_EQ(QueryNumber(padded, most_held), QueryNumber(map, most_held));
   EXPECT_EQ(IntegrityCheck(padded), "ok");
   EXPECT_EQ(stored(map), stored_before);  // the source is read, not changed
 
