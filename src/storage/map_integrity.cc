@@ -70,7 +70,7 @@ double NowS() {
 
 // The files this process found intact, as they were then: opening one again, unchanged, does not
 // read it whole again. `memloop run --resume` opens a map three times (its parameters, its
-// progress, the run): a map of a million LTM locations (63 GB, bench/pad_map.py) took ~10
+// progress, the run): a map of a million LTM locations (63 GB, bench/pad_map.py) took 17-19
 // minutes per check.
 struct CheckedFiles {
   std::mutex mutex;
