@@ -283,21 +283,23 @@ TEST(ResumeRefusalTest, MapOfFormatFourResumesAndIsUpgraded) {
 }
 
 // kill -9 of the memloop tool at random moments.
-std::string IntegrityCheck(const std::string& path) {
+// The first value `query` answers on the map at `path` ("cannot open", "no answer").
+std::string FirstValueIn(const std::string& path, const std::string& query) {
   sqlite3* db = nullptr;
   if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) return "cannot open";
-  const std::string verdict = FirstValue(db, "PRAGMA integrity_check");
-  sqlite3_close(db);
-  return verdict;
-}
-
-// The first value `query` answers on the map at `path`, as a number (-1: no answer).
-long long QueryNumber(const std::string& path, const std::string& query) {
-  sqlite3* db = nullptr;
-  if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) return -1;
   const std::string value = FirstValue(db, query);
   sqlite3_close(db);
-  return value == "no answer" ? -1 : std::stoll(value);
+  return value;
+}
+
+std::string IntegrityCheck(const std::string& path) {
+  return FirstValueIn(path, "PRAGMA integrity_check");
+}
+
+// FirstValueIn as a number (-1: no answer).
+long long QueryNumber(const std::string& path, const std::string& query) {
+  const std::string value = FirstValueIn(path, query);
+  return value == "no answer" || value == "cannot open" ? -1 : std::stoll(value);
 }
 
 TEST(ResumeCliTest, KilledAtRandomMomentsResumesToTheUninterruptedResult) {
