@@ -123,6 +123,11 @@ struct MemoryOptions {
   int signature_within_time = 1;
   // Of an image's features, at least this share (the strongest) is quantized, however late.
   double signature_min_share = 0.5;
+  // With signature_within_time: when an image's features would not all be quantized by the time
+  // target, their search first visits fewer leaves than dictionary.kd_checks, in proportion to
+  // the time left, down to this many; only then are features dropped. 0: always the
+  // dictionary's (features dropped first).
+  int signature_min_checks = 8;
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).
@@ -170,6 +175,15 @@ struct MemoryOptions {
   // and found early: 8 makes re-matching 4x cheaper where time is short (issue 37; docs/design.md,
   // "Fixed costs under a tight T_time").
   int retrieval_kd_checks = 8;
+  // Under T_time, with retrieval_over_iterations: the neighbours of a place asked for that lie
+  // ahead of it (the way the robot goes along the old route: newer locations when the places
+  // recognized image after image grow newer) are asked for first, and their words are not
+  // searched in the kd-forest: the robot has not been there yet in this pass, so they have no
+  // twins to find; at their retrieval they are compared with the words that joined since
+  // (Dictionary::MatchSince), and the others come back under their old ids, as words that
+  // matched none do. Staging then searches only the place the robot is at, and WM holds the next
+  // places before the robot gets there (issue 37). 0: every staged word is searched.
+  int retrieval_ahead_unsearched = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose

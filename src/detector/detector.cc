@@ -571,7 +571,8 @@ class Detector::Impl {
   StepCost transfer_step_cost_;        // the whole transfer step's
   // III-A within the time target: strongest features first (signature_budget.h).
   SignatureBudget signature_budget_{options_.memory, options_.dictionary.search_threads,
-                                    [this] { return iteration_.ElapsedMs(); }};
+                                    [this] { return iteration_.ElapsedMs(); },
+                                    options_.dictionary.kd_checks};
   std::unique_ptr<FeatureExtractor> extractor_;
   Memory memory_;
   NeighbourhoodCache wm_neighbourhoods_;  // the filter's, of memory_

@@ -117,6 +117,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("true, with T_time on: an image's features are quantized strongest first until the iteration, with what its later steps are expected to take, would pass the time target; the weaker ones left are dropped (false = every feature whatever the time, the paper)"),
     Param("memory.signature_min_share", MEMLOOP_FIELD(memory.signature_min_share)).Range(0, 1)
         .Help("With memory.signature_within_time: of an image's features, at least this share (the strongest) is quantized however late the iteration"),
+    Param("memory.signature_min_checks", MEMLOOP_FIELD(memory.signature_min_checks)).Unit("leaves")
+        .Range(0, 100000).Help("With memory.signature_within_time: when an image's features would not all be quantized by the time target, their kd-forest search visits fewer leaves than dictionary.kd_checks (in proportion to the time left), down to this many, before any feature is dropped (0 = always dictionary.kd_checks)"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")
@@ -133,6 +135,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("true, with T_time on and memory.retrieval_within_time: a thread reads the map-file rows of the locations to retrieve and hands them over (the detector's thread does not read the file), and one is retrieved once they are read, waited for only as long as the iteration allows (false = read when retrieved, whatever the disk takes, the paper)"),
     Param("memory.retrieval_over_iterations", MEMLOOP_FIELD(memory.retrieval_over_iterations)).Flag()
         .Help("true, with the read-ahead: a location's words that left the dictionary are re-matched a chunk at a time while iterations have room, and it is retrieved once they all are (false = retrieved whole in one iteration, or deferred)"),
+    Param("memory.retrieval_ahead_unsearched", MEMLOOP_FIELD(memory.retrieval_ahead_unsearched)).Flag()
+        .Help("true, under T_time with memory.retrieval_over_iterations: neighbours that lie ahead of the place asked for (the way the robot goes along the old route) are asked for first, and their words are not searched (no twins yet) but compared at retrieval with the words that joined since (false = every staged word searched, nearest then oldest first)"),
     Param("memory.retrieval_kd_checks", MEMLOOP_FIELD(memory.retrieval_kd_checks)).Unit("leaves")
         .Range(0, 100000).Help("Under T_time, with memory.retrieval_over_iterations: leaves the kd-forest search visits when re-matching a staged location's words that left the dictionary (0 = dictionary.kd_checks, as with T_time off)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")

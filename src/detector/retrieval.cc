@@ -1,6 +1,7 @@
 #include "detector/retrieval.h"
 
 #include <algorithm>
+#include <limits>
 #include <set>
 
 #include "detector/stopwatch.h"
@@ -108,7 +109,7 @@ std::optional<PrefetchedRows> ReadAhead(LocationId id, LtmReadAhead& read_ahead,
 // counting it. `wanted`: this iteration asks for it (staged, it is then searched first beside the
 // next extraction); otherwise it is only carried on (ContinueStaged).
 void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const RetrievalTime& time,
-                 bool wanted, RetrievalOutcome& outcome) {
+                 bool wanted, bool ahead, RetrievalOutcome& outcome) {
   if (!time.location.Fits()) {
     ++outcome.deferred;
     return;
@@ -128,6 +129,15 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
       staged->rows = std::move(*rows);  // its answers hold: a word's descriptor never changes
     } else if (staging != nullptr) {
       staged = &staging->Start(id, std::move(*rows));
+    }
+  }
+  if (staged != nullptr && ahead && time.ahead_unsearched) {
+    // A place the robot has not reached yet has no twins: its words are not searched, only
+    // compared at its retrieval with the words that joined since (RematchWords).
+    constexpr float kNone = std::numeric_limits<float>::max();
+    const long long mark = memory.dictionary().JoinMark();
+    for (WordId word : UnsearchedWords(*staged, memory.dictionary(), ltm).first) {
+      staged->matches[word] = WordAnswer{kNoWord, kNone, kNone, mark};
     }
   }
   if (staged != nullptr) {
@@ -163,10 +173,20 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
   const Neighbourhood neighbourhood = FindNeighbourhood(highest, range, [&](LocationId id) {
     return memory.Contains(id) ? memory.LinksOf(id) : ltm.LinksOf(id);
   });
-  std::vector<LocationId> in_ltm;  // nearest first, then oldest
+  std::vector<std::pair<int, LocationId>> by_distance;  // nearest first, then oldest
   for (const auto& [id, distance] : neighbourhood) {
-    if (ltm.Contains(id)) in_ltm.push_back(id);
+    if (ltm.Contains(id)) by_distance.emplace_back(distance, id);
   }
+  // Staged, a location comes back one or two images after it is asked for: the neighbour the
+  // robot goes to next must be asked for first, or it joins WM after the robot got there and the
+  // transition model has nothing to carry the hypothesis onto (issue 37).
+  if (time.staging != nullptr && time.ahead_unsearched && time.newer_first) {
+    std::stable_sort(by_distance.begin(), by_distance.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first < b.first : a.second > b.second;
+    });
+  }
+  std::vector<LocationId> in_ltm;
+  for (const auto& [distance, id] : by_distance) in_ltm.push_back(id);
   // Read ahead: those this iteration retrieves and those the next would, not the whole
   // neighbourhood. A chance hypothesis' neighbourhood in LTM was read for nothing: in the late
   // state of a 49,050-image run (bench/late_state.sh), 3,016 locations read for 917 retrieved.
@@ -177,7 +197,8 @@ RetrievalOutcome Retrieve(LocationId highest, int max_retrieved, int range, Memo
   }
   for (LocationId id : in_ltm) {
     if (static_cast<int>(outcome.retrieved.size()) + outcome.deferred >= max_retrieved) break;
-    RetrieveOne(id, memory, ltm, time, /*wanted=*/true, outcome);
+    const bool ahead = time.ahead_unsearched && id != highest && (id > highest) == time.newer_first;
+    RetrieveOne(id, memory, ltm, time, /*wanted=*/true, ahead, outcome);
   }
   return outcome;
 }
@@ -195,7 +216,7 @@ RetrievalOutcome ContinueStaged(int max_retrieved, Memory& memory, LongTermMemor
       time.staging->Erase(id);
       continue;
     }
-    RetrieveOne(id, memory, ltm, time, /*wanted=*/false, outcome);
+    RetrieveOne(id, memory, ltm, time, /*wanted=*/false, /*ahead=*/false, outcome);
   }
   outcome.deferred = 0;  // what was not carried on stays staged, as it was
   outcome.unread = 0;

@@ -34,21 +34,27 @@ struct RetrievalTime {
   // Leaves a staged location's search visits (memory.retrieval_kd_checks; 0: the dictionary's).
   // Staging needs T_time: a run with T_time off searches as the dictionary does.
   int staged_checks = 0;
+  // Staged, memory.retrieval_ahead_unsearched: the neighbours that lie ahead of the place asked
+  // for come first, nearest first (the newer ones when `newer_first`, the robot going the way the
+  // map was made: TravelDirection; else the older ones), and their words are not searched; they
+  // are compared at their retrieval with the words that joined since.
+  bool ahead_unsearched = false;
+  bool newer_first = true;
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest
-// first, then oldest). Their words still in the dictionary get a reference; words that left it
-// are matched against it: a match replaces the old word (in the signature and everywhere in LTM,
-// and the old word is removed), a non-match returns to the dictionary under its old id.
-// Under T_time (memloop, issue 9; memory.retrieval_within_time) each location is retrieved only
-// if it fits `time.location`: the paper bounds retrieval by count alone ("a maximum of two
-// locations ... because this step is time consuming"), but re-matching one location's words costs
-// about as much as quantizing an image. Deferred ones stay in LTM until an iteration has room (the
-// highest hypothesis, and an appearance match, usually hold over several images).
-// With `time.read_ahead` (memory.retrieval_read_ahead, T_time on), every LTM location of the
-// neighbourhood is requested from the reader thread, nearest first, and one is retrieved only once
-// its rows are read, waited for no longer than the deadline leaves, from the rows that thread read
-// (the detector's thread does not read the file); otherwise it is deferred too, and the reader
+// first, then oldest; staged, see RetrievalTime::ahead_unsearched). Their words still in the
+// dictionary get a reference; words that left it are matched against it: a match replaces the old
+// word (in the signature and everywhere in LTM, and the old word is removed), a non-match returns
+// to the dictionary under its old id. Under T_time (memloop, issue 9; memory.retrieval_within_time)
+// each location is retrieved only if it fits `time.location`: the paper bounds retrieval by count
+// alone ("a maximum of two locations ... because this step is time consuming"), but re-matching one
+// location's words costs about as much as quantizing an image. Deferred ones stay in LTM until an
+// iteration has room (the highest hypothesis, and an appearance match, usually hold over several
+// images). With `time.read_ahead` (memory.retrieval_read_ahead, T_time on), every LTM location of
+// the neighbourhood is requested from the reader thread, nearest first, and one is retrieved only
+// once its rows are read, waited for no longer than the deadline leaves, from the rows that thread
+// read (the detector's thread does not read the file); otherwise it is deferred too, and the reader
 // goes on reading it for a later iteration (a row not in the OS's cache: 50-150 ms).
 // With `time.staging` too, a location's words are searched in chunks while `time.search_chunk`
 // fits (leaving room for its end), over as many iterations as it takes (RetrievalStaging); it

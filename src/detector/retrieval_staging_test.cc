@@ -33,6 +33,22 @@ class RetrievalStagingTest : public ::testing::Test {
     return staged;
   }
 
+  // Staged retrieval of `target`, neighbours ahead unsearched, with room for retrievals but none
+  // for a chunk of search (a chunk expected to take 10 ms, 5 before the deadline).
+  RetrievalOutcome RetrieveWithoutRoomToSearch(LocationId target, bool newer_first) {
+    staging_.StartIteration();
+    StepCost chunk;
+    chunk.Record(5);
+    RetrievalTime time;
+    time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+    time.search_chunk = StepDeadline([] { return 35.0; }, 40, &chunk);
+    time.read_ahead = &read_ahead_;
+    time.staging = &staging_;
+    time.ahead_unsearched = true;
+    time.newer_first = newer_first;
+    return Retrieve(target, 2, 4, memory_, *ltm_, time);
+  }
+
   // Retrieval with time to spare, staged.
   RetrievalOutcome RetrieveStaged(LocationId target, int max_retrieved = 1) {
     RetrievalTime time;
@@ -115,6 +131,44 @@ TEST_F(RetrievalStagingTest, ALocationWithoutRoomStaysStagedForALaterIteration) 
   EXPECT_TRUE(ltm_->Contains(ids_[2]));
   staging_.StartIteration();
   EXPECT_EQ(RetrieveStaged(ids_[2]).retrieved, (std::vector<LocationId>{ids_[2]}));
+}
+
+// memory.retrieval_ahead_unsearched: asked for L3, the neighbour ahead of it (L4 when the robot
+// goes the way the map was made) comes first and is not searched: with no room for a chunk of
+// search, L3 waits staged, unsearched, while L4 comes back at once, its words under their old ids
+// (they match nothing in the dictionary, as a search would find).
+TEST_F(RetrievalStagingTest, TheNeighbourAheadComesBackUnsearched) {
+  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*newer_first=*/true);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[3]}));
+  EXPECT_EQ(outcome.deferred, 1);
+  ASSERT_NE(staging_.Find(ids_[2]), nullptr);
+  EXPECT_TRUE(staging_.Find(ids_[2])->matches.empty());
+  EXPECT_EQ(memory_.at(ids_[3]).signature.words, (std::vector<WordId>{40, 70}));
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// Going back along the route, the neighbour ahead is the older one: L2.
+TEST_F(RetrievalStagingTest, GoingBackTheOlderNeighbourIsAhead) {
+  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*newer_first=*/false);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[1]}));
+  EXPECT_EQ(outcome.deferred, 1);
+  EXPECT_TRUE(ltm_->Contains(ids_[3]));
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// Without the parameter, nothing is retrieved unsearched: both wait for room to search.
+TEST_F(RetrievalStagingTest, WithoutTheParameterEveryStagedLocationIsSearched) {
+  staging_.StartIteration();
+  StepCost chunk;
+  chunk.Record(5);
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+  time.search_chunk = StepDeadline([] { return 35.0; }, 40, &chunk);
+  time.read_ahead = &read_ahead_;
+  time.staging = &staging_;
+  const RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_, time);
+  EXPECT_TRUE(outcome.retrieved.empty());
+  EXPECT_EQ(outcome.deferred, 2);
 }
 
 // A location wanted in one of the last kCarryOnFor iterations, not this one, is carried on.

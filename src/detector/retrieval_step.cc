@@ -31,6 +31,7 @@ RetrievalTime RetrievalStep::TimeOf(const std::function<StepDeadline(StepCost*)>
     staging_.StartIteration();
     time.staging = &staging_;
     time.staged_checks = options_.retrieval_kd_checks;
+    time.ahead_unsearched = options_.retrieval_ahead_unsearched != 0;
   }
   return time;
 }
@@ -39,6 +40,8 @@ std::vector<LocationId> RetrievalStep::Retrieve(
     LocationId by_hypothesis, LocationId by_appearance,
     const std::function<StepDeadline(StepCost*)>& deadline_of, Result& result) {
   RetrievalTime time = TimeOf(deadline_of);
+  direction_.Observe(by_appearance != kNoLocation ? by_appearance : by_hypothesis);
+  time.newer_first = direction_.newer_first();
   std::vector<LocationId> targets = {by_hypothesis, by_appearance};
   // Staged (T_time on), the place recognized by appearance goes first: it stands out of all of
   // LTM, where a hypothesis just over memory.retrieval_min_value is mostly noise.

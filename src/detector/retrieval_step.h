@@ -11,6 +11,7 @@
 #include "detector/retrieval.h"
 #include "detector/retrieval_staging.h"
 #include "detector/step_deadline.h"
+#include "detector/travel_direction.h"
 #include "memloop/options.h"
 #include "memloop/result.h"
 #include "storage/long_term_memory.h"
@@ -45,9 +46,10 @@ class RetrievalStep {
   int range_;
   Memory& memory_;
   LongTermMemory& ltm_;
-  StepCost location_cost_;    // one retrieval's expected time (T_time on), or its end's (staged)
-  StepCost chunk_cost_;       // one chunk of a staged location's search
-  RetrievalStaging staging_;  // memory.retrieval_over_iterations
+  TravelDirection direction_;  // staged: which neighbours are asked for first
+  StepCost location_cost_;     // one retrieval's expected time (T_time on), or its end's (staged)
+  StepCost chunk_cost_;        // one chunk of a staged location's search
+  RetrievalStaging staging_;   // memory.retrieval_over_iterations
   std::unique_ptr<LtmReadAhead> read_ahead_;  // null unless T_time is on
   // Last: it stops before what it reads goes.
   std::unique_ptr<StagedWordSearch> staged_search_;

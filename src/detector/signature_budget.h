@@ -5,9 +5,12 @@
 // tight T_time that alone broke the bound, and a smaller WM cannot make up for it. So the search
 // takes its chunks strongest features first, and stops taking them once the iteration, with one
 // chunk more and what the steps after the quantization are expected to take, would pass the time
-// target; the weaker features left are dropped from the image. At least
-// memory.signature_min_share of the features is quantized, however late. With T_time off, or the
-// parameter off (the paper), every feature is.
+// target; the weaker features left are dropped from the image. Before that, when the features
+// would not all fit at the search's usual cost, each is searched visiting fewer leaves, in
+// proportion to the time left, down to memory.signature_min_checks: a feature searched coarsely
+// still votes for its place, a dropped one does not. At least memory.signature_min_share of the
+// features is quantized, however late. With T_time off, or the parameter off (the paper), every
+// feature is, visiting dictionary.kd_checks leaves.
 #pragma once
 
 #include <cstddef>
@@ -30,9 +33,10 @@ bool TakeNextChunk(size_t taken, size_t min_rows, double elapsed_ms, double chun
 
 class SignatureBudget {
  public:
-  // `elapsed_ms`: the iteration's clock.
+  // `elapsed_ms`: the iteration's clock; `kd_checks`: the dictionary's leaves per search.
   SignatureBudget(const MemoryOptions& memory, int search_threads,
-                  std::function<double()> elapsed_ms = {});
+                  std::function<double()> elapsed_ms = {},
+                  int kd_checks = DictionaryOptions().kd_checks);
 
   // III-A's quantization of `features` within the budget (CreateSignature, MatchSignature):
   // features the search did not reach leave `features` too (KeepFirstFeatures), so that what
@@ -46,9 +50,16 @@ class SignatureBudget {
   // The gate of an image's quantization (none when disabled), `features` of them, on the
   // iteration's clock; made when the search starts. A chunk is expected to take the larger of
   // ChunkMs() and what this search's chunks have taken so far.
-  SearchGate Gate(size_t features, std::function<double()> elapsed_ms) const;
-  // The search of `rows` features took `ms` (wall time, the threads sharing it).
-  void RecordQuantization(double ms, size_t rows);
+  // `checks` leaves per feature (0: kd_checks) scale the expected chunk.
+  SearchGate Gate(size_t features, std::function<double()> elapsed_ms, int checks = 0) const;
+  // The leaves each of `features` features is searched with, `now_ms` on the iteration's clock:
+  // 0 (the dictionary's) when they all fit before DeadlineMs() at the expected cost, else
+  // kd_checks x the share of that cost that fits, at least memory.signature_min_checks (a
+  // search's time grows about as the leaves it visits).
+  int Checks(size_t features, double now_ms) const;
+  // The search of `rows` features took `ms` (wall time, the threads sharing it), visiting
+  // `checks` leaves each (0: kd_checks); recorded as the time at kd_checks.
+  void RecordQuantization(double ms, size_t rows, int checks = 0);
   // The steps from the end of the search to retrieval (the new words' insertion in the forest,
   // the rest of the signature step, rehearsal, the filter and selection) took `ms`.
   void RecordAfterQuantization(double ms);
@@ -60,16 +71,19 @@ class SignatureBudget {
   double ChunkMs() const { return row_.expected_ms() * WordIndex::kSearchChunk; }
 
  private:
-  void Finish(double start_ms, double search_ms, size_t quantized, Features& features,
+  void Finish(double start_ms, double search_ms, size_t quantized, int checks, Features& features,
               int* skipped);
+  SearchOptions Search(size_t features, int checks) const;
 
   std::function<double()> elapsed_ms_;
   double searched_at_ms_ = 0;  // on the iteration's clock: the end of the last search
   double target_ms_ = 0;       // 0: disabled
   double min_share_ = 1;
   int search_threads_ = 1;
-  StepCost row_;    // one feature's quantization on one thread
-  StepCost after_;  // the steps after the quantization, up to retrieval
+  int kd_checks_ = 0;
+  int min_checks_ = 0;  // 0: never fewer leaves
+  StepCost row_;        // one feature's quantization on one thread
+  StepCost after_;      // the steps after the quantization, up to retrieval
 };
 
 }  // namespace memloop

@@ -63,5 +63,46 @@ TEST(SignatureBudgetTest, ASlowSearchJudgesByItsOwnChunks) {
   EXPECT_FALSE(gate(48));  // 9.5 + 2.33 > 11 (with the expected 1.28 alone: 10.78, taken)
 }
 
+// As above: deadline 11 ms, 0.08 ms a row on one thread, 200 rows on two threads 8 ms. With
+// 9 ms left every row is searched with the dictionary's 32 leaves (0); with 4 ms left, half the
+// cost fits: 16 leaves; with 1 ms, 32 / 8 = 4, raised to the 8 of memory.signature_min_checks.
+TEST(SignatureBudgetTest, FewerLeavesInProportionToTheTimeLeft) {
+  MemoryOptions memory = TimeLimit(20);
+  memory.signature_min_checks = 8;
+  SignatureBudget budget(memory, 2, {}, 32);
+  EXPECT_EQ(budget.Checks(200, 2.0), 0);  // nothing measured yet
+  budget.RecordAfterQuantization(2);
+  budget.RecordQuantization(4, 200);
+  EXPECT_EQ(budget.Checks(200, 2.0), 0);
+  EXPECT_EQ(budget.Checks(200, 3.0), 0);  // 8 ms left: just
+  EXPECT_EQ(budget.Checks(200, 7.0), 16);
+  EXPECT_EQ(budget.Checks(200, 10.0), 8);
+  EXPECT_EQ(budget.Checks(200, 30.0), 8);  // already late
+  memory.signature_min_checks = 0;         // features dropped first, as before
+  SignatureBudget drop_first(memory, 2, {}, 32);
+  drop_first.RecordAfterQuantization(2);
+  drop_first.RecordQuantization(4, 200);
+  EXPECT_EQ(drop_first.Checks(200, 10.0), 0);
+  EXPECT_EQ(SignatureBudget(TimeLimit(0), 2, {}, 32).Checks(200, 10.0), 0);  // T_time off
+}
+
+// A search of 8 leaves of 32 that took 1 ms counts as 4 ms at 32 (0.08 ms a row expected, a
+// chunk 1.28 ms), and a gate for 16 leaves expects half a chunk: at 9.8 ms with 112 rows taken,
+// 9.8 + 0.64 <= 11 (with 32 leaves, 9.8 + 1.28 > 11:
+// TheDeadlineLeavesRoomForTheStepsAfterTheSearch).
+TEST(SignatureBudgetTest, SearchesOfFewerLeavesAreCountedAtTheDictionarysLeaves) {
+  SignatureBudget budget(TimeLimit(20), 2, {}, 32);
+  budget.RecordAfterQuantization(2);
+  budget.RecordQuantization(1, 200, 8);
+  EXPECT_NEAR(budget.ChunkMs(), 1.28, 1e-12);
+  double now = 9.0;
+  const SearchGate gate = budget.Gate(
+      200, [&now] { return now; }, 16);
+  now = 9.8;
+  EXPECT_TRUE(gate(112));
+  now = 10.5;
+  EXPECT_FALSE(gate(112));  // 10.5 + 0.64 > 11
+}
+
 }  // namespace
 }  // namespace memloop

@@ -86,9 +86,9 @@ std::optional<std::vector<WordId>> Dictionary::MatchSince(
 }
 
 std::vector<WordId> Dictionary::Quantize(const cv::Mat& descriptors, int* new_word_count,
-                                         const SearchGate& gate, double* search_ms) {
+                                         const SearchOptions& search, double* search_ms) {
   const auto start = std::chrono::steady_clock::now();
-  std::vector<WordId> words = Match(descriptors, {gate});
+  std::vector<WordId> words = Match(descriptors, search);
   if (search_ms != nullptr) {
     *search_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -51,12 +51,11 @@ class Dictionary {
 
   // Quantization of a new signature: Match(), then every row that matched nothing becomes a
   // new word. New words are added after all rows are matched, so rows of one image never match
-  // each other. `new_word_count` receives how many words were created. With a `gate`
-  // (SearchOptions), the rows the search reached (the first ones); the answer has one word per row
-  // quantized.
+  // each other. `new_word_count` receives how many words were created. With a gate in `search`,
+  // the rows the search reached (the first ones); the answer has one word per row quantized.
   // `search_ms` receives the search's time (the rest is adding the new words to the forest).
   std::vector<WordId> Quantize(const cv::Mat& descriptors, int* new_word_count,
-                               const SearchGate& gate = {}, double* search_ms = nullptr);
+                               const SearchOptions& search = {}, double* search_ms = nullptr);
 
   // Adds words under given ids (words retrieved from LTM keep theirs).
   void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors);

@@ -62,8 +62,8 @@ TEST(DictionaryTest, GatedQuantizationStopsAtAChunk) {
   rows.col(1).setTo(0);
   int created = 0;
   double search_ms = -1;
-  const std::vector<WordId> words = dictionary.Quantize(
-      rows, &created, [](size_t taken) { return taken < 20; }, &search_ms);
+  const std::vector<WordId> words =
+      dictionary.Quantize(rows, &created, {[](size_t taken) { return taken < 20; }}, &search_ms);
   EXPECT_EQ(words.size(), 2 * WordIndex::kSearchChunk);  // taken 0, 16 (< 20), then 32: stop
   EXPECT_EQ(created, static_cast<int>(words.size()));
   EXPECT_EQ(dictionary.size(), 2 + words.size());

@@ -22,18 +22,18 @@ std::vector<std::pair<WordId, int>> Signature::Histogram() const {
 }
 
 Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count,
-                          const SearchGate& gate, double* search_ms) {
+                          const SearchOptions& search, double* search_ms) {
   Signature signature;
-  signature.words = dictionary.Quantize(features.descriptors, new_word_count, gate, search_ms);
+  signature.words = dictionary.Quantize(features.descriptors, new_word_count, search, search_ms);
   signature.keypoints.assign(features.keypoints.begin(),
                              features.keypoints.begin() + signature.words.size());
   return signature;
 }
 
 Signature MatchSignature(const Features& features, const Dictionary& dictionary,
-                         const SearchGate& gate, size_t* searched) {
+                         const SearchOptions& search, size_t* searched) {
   Signature signature;
-  const std::vector<WordId> words = dictionary.Match(features.descriptors, {gate});
+  const std::vector<WordId> words = dictionary.Match(features.descriptors, search);
   if (searched != nullptr) *searched = words.size();
   for (size_t row = 0; row < words.size(); ++row) {
     if (words[row] == kNoWord) continue;

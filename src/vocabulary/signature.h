@@ -30,17 +30,17 @@ struct Signature {
 };
 
 // Quantizes the features into words of `dictionary`, creating words for descriptors that match
-// none (paper III-A). `new_word_count` receives how many were created. With a `gate`
+// none (paper III-A). `new_word_count` receives how many were created. With a gate in `search`
 // (Dictionary::Quantize), the first features only: the signature then holds fewer keypoints.
 // `search_ms` receives the kd-forest search's time.
 Signature CreateSignature(const Features& features, Dictionary& dictionary, int* new_word_count,
-                          const SearchGate& gate = {}, double* search_ms = nullptr);
+                          const SearchOptions& search = {}, double* search_ms = nullptr);
 
 // Localization: the words of `dictionary` the features match; a feature that matches none is
-// dropped (with its keypoint) instead of becoming a new word. With a `gate`, of the first
-// features only; `searched` (if given) receives how many were searched.
+// dropped (with its keypoint) instead of becoming a new word. With a gate in `search`, of the
+// first features only; `searched` (if given) receives how many were searched.
 Signature MatchSignature(const Features& features, const Dictionary& dictionary,
-                         const SearchGate& gate = {}, size_t* searched = nullptr);
+                         const SearchOptions& search = {}, size_t* searched = nullptr);
 
 // Keeps the first `count` features (the strongest: extractors sort them), with the rows of their
 // rolled view.

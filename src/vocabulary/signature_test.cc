@@ -65,7 +65,7 @@ TEST(SignatureTest, GatedSignatureHoldsTheFirstFeatures) {
   }
   int created = 0;
   const Signature signature =
-      CreateSignature(features, dictionary, &created, [](size_t) { return false; });
+      CreateSignature(features, dictionary, &created, {[](size_t) { return false; }});
   ASSERT_EQ(signature.size(), 16);
   EXPECT_EQ(signature.keypoints.size(), 16u);
   EXPECT_EQ(signature.keypoints.back().pt.x, 15.0f);
