@@ -177,12 +177,13 @@ struct MemoryOptions {
   int retrieval_kd_checks = 8;
   // Under T_time, with retrieval_over_iterations: the neighbours of a place asked for that lie
   // ahead of it (the way the robot goes along the old route: newer locations when the places
-  // recognized image after image grow newer) are asked for first, and their words are not
-  // searched in the kd-forest: the robot has not been there yet in this pass, so they have no
-  // twins to find; at their retrieval they are compared with the words that joined since
-  // (Dictionary::MatchSince), and the others come back under their old ids, as words that
-  // matched none do. Staging then searches only the place the robot is at, and WM holds the next
-  // places before the robot gets there (issue 37). 0: every staged word is searched.
+  // recognized image after image grow newer) are asked for first, and their words that the
+  // iteration has no room to search are not searched in the kd-forest: the robot has not been
+  // there yet in this pass, so they have no twins to find; at their retrieval they are compared
+  // with the words that joined since (Dictionary::MatchSince), and the others come back under
+  // their old ids, as words that matched none do. Staging then searches the place the robot is
+  // at, and WM holds the next places before the robot gets there (issue 37). 0: every staged word
+  // is searched.
   int retrieval_ahead_unsearched = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its

@@ -131,20 +131,22 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
       staged = &staging->Start(id, std::move(*rows));
     }
   }
-  if (staged != nullptr && ahead && time.ahead_unsearched) {
-    // A place the robot has not reached yet has no twins: its words are not searched, only
-    // compared at its retrieval with the words that joined since (RematchWords).
-    constexpr float kNone = std::numeric_limits<float>::max();
-    const long long mark = memory.dictionary().JoinMark();
-    for (WordId word : UnsearchedWords(*staged, memory.dictionary(), ltm).first) {
-      staged->matches[word] = WordAnswer{kNoWord, kNone, kNone, mark};
-    }
-  }
   if (staged != nullptr) {
     if (wanted) staging->Want(*staged, time.priority);
-    if (!SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
-                           time.location.ExpectedMs(), time.staged_checks) ||
-        !time.location.Fits()) {
+    bool searched = SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
+                                      time.location.ExpectedMs(), time.staged_checks);
+    if (!searched && ahead) {
+      // No time to search them, and a place the robot has not reached yet has no twins: its
+      // words left are compared at its retrieval with the words that joined since
+      // (RematchWords), not searched.
+      constexpr float kNone = std::numeric_limits<float>::max();
+      const long long mark = memory.dictionary().JoinMark();
+      for (WordId word : UnsearchedWords(*staged, memory.dictionary(), ltm).first) {
+        staged->matches[word] = WordAnswer{kNoWord, kNone, kNone, mark};
+      }
+      searched = true;
+    }
+    if (!searched || !time.location.Fits()) {
       ++outcome.deferred;
       return;
     }

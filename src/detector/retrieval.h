@@ -36,8 +36,9 @@ struct RetrievalTime {
   int staged_checks = 0;
   // Staged, memory.retrieval_ahead_unsearched: the neighbours that lie ahead of the place asked
   // for come first, nearest first (the newer ones when `newer_first`, the robot going the way the
-  // map was made: TravelDirection; else the older ones), and their words are not searched; they
-  // are compared at their retrieval with the words that joined since.
+  // map was made: TravelDirection; else the older ones), and their words that the iteration has
+  // no room to search are not searched; they are compared at their retrieval with the words that
+  // joined since.
   bool ahead_unsearched = false;
   bool newer_first = true;
 };

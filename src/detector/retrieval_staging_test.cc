@@ -134,9 +134,9 @@ TEST_F(RetrievalStagingTest, ALocationWithoutRoomStaysStagedForALaterIteration) 
 }
 
 // memory.retrieval_ahead_unsearched: asked for L3, the neighbour ahead of it (L4 when the robot
-// goes the way the map was made) comes first and is not searched: with no room for a chunk of
-// search, L3 waits staged, unsearched, while L4 comes back at once, its words under their old ids
-// (they match nothing in the dictionary, as a search would find).
+// goes the way the map was made) comes first, and with no room for a chunk of search it is not
+// searched: L3 waits staged, unsearched, while L4 comes back at once, its words under their old
+// ids (they match nothing in the dictionary, as a search would find).
 TEST_F(RetrievalStagingTest, TheNeighbourAheadComesBackUnsearched) {
   const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*newer_first=*/true);
   EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[3]}));
@@ -144,6 +144,24 @@ TEST_F(RetrievalStagingTest, TheNeighbourAheadComesBackUnsearched) {
   ASSERT_NE(staging_.Find(ids_[2]), nullptr);
   EXPECT_TRUE(staging_.Find(ids_[2])->matches.empty());
   EXPECT_EQ(memory_.at(ids_[3]).signature.words, (std::vector<WordId>{40, 70}));
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// With room to search, the place ahead is searched as any other: a twin of word 70 already in the
+// dictionary replaces it, and word 40 matches word 30, back with L3 (3000: 1000 against 3500 for
+// word 5, under the 0.8 ratio), where unsearched both would have come back under their own ids.
+TEST_F(RetrievalStagingTest, WithRoomThePlaceAheadIsSearched) {
+  memory_.dictionary().Add({200}, (cv::Mat_<float>(1, 2) << 7000, 0));
+  staging_.StartIteration();
+  RetrievalTime time;
+  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+  time.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
+  time.read_ahead = &read_ahead_;
+  time.staging = &staging_;
+  time.ahead_unsearched = true;
+  const RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_, time);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L4 before L2
+  EXPECT_EQ(memory_.at(ids_[3]).signature.words, (std::vector<WordId>{30, 200}));
   EXPECT_TRUE(map_.CheckConsistencyEmpty());
 }
 
