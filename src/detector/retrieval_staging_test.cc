@@ -33,9 +33,10 @@ class RetrievalStagingTest : public ::testing::Test {
     return staged;
   }
 
-  // Staged retrieval of `target`, neighbours ahead unsearched, with room for retrievals but none
-  // for a chunk of search (a chunk expected to take 10 ms, 5 before the deadline).
-  RetrievalOutcome RetrieveWithoutRoomToSearch(LocationId target, bool newer_first) {
+  // Staged retrieval of `target` (at most 2), with room for retrievals but none for a chunk of
+  // search (a chunk expected to take 10 ms, 5 before the deadline).
+  RetrievalOutcome RetrieveWithoutRoomToSearch(LocationId target, bool ahead_unsearched,
+                                               bool newer_first = true) {
     staging_.StartIteration();
     StepCost chunk;
     chunk.Record(5);
@@ -44,18 +45,20 @@ class RetrievalStagingTest : public ::testing::Test {
     time.search_chunk = StepDeadline([] { return 35.0; }, 40, &chunk);
     time.read_ahead = &read_ahead_;
     time.staging = &staging_;
-    time.ahead_unsearched = true;
+    time.ahead_unsearched = ahead_unsearched;
     time.newer_first = newer_first;
     return Retrieve(target, 2, 4, memory_, *ltm_, time);
   }
 
   // Retrieval with time to spare, staged.
-  RetrievalOutcome RetrieveStaged(LocationId target, int max_retrieved = 1) {
+  RetrievalOutcome RetrieveStaged(LocationId target, int max_retrieved = 1,
+                                  bool ahead_unsearched = false) {
     RetrievalTime time;
     time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
     time.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
     time.read_ahead = &read_ahead_;
     time.staging = &staging_;
+    time.ahead_unsearched = ahead_unsearched;
     return Retrieve(target, max_retrieved, 4, memory_, *ltm_, time);
   }
 
@@ -138,7 +141,7 @@ TEST_F(RetrievalStagingTest, ALocationWithoutRoomStaysStagedForALaterIteration) 
 // searched: L3 waits staged, unsearched, while L4 comes back at once, its words under their old
 // ids (they match nothing in the dictionary, as a search would find).
 TEST_F(RetrievalStagingTest, TheNeighbourAheadComesBackUnsearched) {
-  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*newer_first=*/true);
+  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*ahead_unsearched=*/true);
   EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[3]}));
   EXPECT_EQ(outcome.deferred, 1);
   ASSERT_NE(staging_.Find(ids_[2]), nullptr);
@@ -153,13 +156,7 @@ TEST_F(RetrievalStagingTest, TheNeighbourAheadComesBackUnsearched) {
 TEST_F(RetrievalStagingTest, WithRoomThePlaceAheadIsSearched) {
   memory_.dictionary().Add({200}, (cv::Mat_<float>(1, 2) << 7000, 0));
   staging_.StartIteration();
-  RetrievalTime time;
-  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
-  time.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
-  time.read_ahead = &read_ahead_;
-  time.staging = &staging_;
-  time.ahead_unsearched = true;
-  const RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_, time);
+  const RetrievalOutcome outcome = RetrieveStaged(ids_[2], 2, /*ahead_unsearched=*/true);
   EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2], ids_[3]}));  // L4 before L2
   EXPECT_EQ(memory_.at(ids_[3]).signature.words, (std::vector<WordId>{30, 200}));
   EXPECT_TRUE(map_.CheckConsistencyEmpty());
@@ -167,7 +164,8 @@ TEST_F(RetrievalStagingTest, WithRoomThePlaceAheadIsSearched) {
 
 // Going back along the route, the neighbour ahead is the older one: L2.
 TEST_F(RetrievalStagingTest, GoingBackTheOlderNeighbourIsAhead) {
-  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*newer_first=*/false);
+  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*ahead_unsearched=*/true,
+                                                               /*newer_first=*/false);
   EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[1]}));
   EXPECT_EQ(outcome.deferred, 1);
   EXPECT_TRUE(ltm_->Contains(ids_[3]));
@@ -176,15 +174,7 @@ TEST_F(RetrievalStagingTest, GoingBackTheOlderNeighbourIsAhead) {
 
 // Without the parameter, nothing is retrieved unsearched: both wait for room to search.
 TEST_F(RetrievalStagingTest, WithoutTheParameterEveryStagedLocationIsSearched) {
-  staging_.StartIteration();
-  StepCost chunk;
-  chunk.Record(5);
-  RetrievalTime time;
-  time.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
-  time.search_chunk = StepDeadline([] { return 35.0; }, 40, &chunk);
-  time.read_ahead = &read_ahead_;
-  time.staging = &staging_;
-  const RetrievalOutcome outcome = Retrieve(ids_[2], 2, 4, memory_, *ltm_, time);
+  const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*ahead_unsearched=*/false);
   EXPECT_TRUE(outcome.retrieved.empty());
   EXPECT_EQ(outcome.deferred, 2);
 }
