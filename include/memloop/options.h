@@ -185,6 +185,14 @@ struct MemoryOptions {
   // at, and WM holds the next places before the robot gets there (issue 37). 0: every staged word
   // is searched.
   int retrieval_ahead_unsearched = 1;
+  // Under T_time, with retrieval_over_iterations: a location asked for whose words the iteration
+  // has no room to search comes back at once, its words compared only with the words that joined
+  // since the retrieval step this many images before (its twins: the words of the images that
+  // recognize it, made while it was in LTM), instead of waiting until the kd-forest search
+  // reaches them. Older twins are not looked for: such a word comes back under its old id beside
+  // its twin. At most 31 (the marks RetrievalStaging keeps). -1: it waits until its words are
+  // searched (places ahead excepted: retrieval_ahead_unsearched).
+  int retrieval_recent_twins = 3;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose

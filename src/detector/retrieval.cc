@@ -135,12 +135,16 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
     if (wanted) staging->Want(*staged, time.priority);
     bool searched = SearchStagedWords(*staged, memory.dictionary(), ltm, time.search_chunk,
                                       time.location.ExpectedMs(), time.staged_checks);
-    if (!searched && ahead) {
-      // No time to search them, and a place the robot has not reached yet has no twins: its
-      // words left are compared at its retrieval with the words that joined since
-      // (RematchWords), not searched.
+    const bool recent_twins = wanted && time.recent_twins >= 0;
+    if (!searched && (ahead || recent_twins)) {
+      // No time to search them. A place the robot has not reached yet has no twins: its words
+      // left are compared at its retrieval (RematchWords) with the words that joined since.
+      // Otherwise its twins are mostly the words of the images that recognize it now
+      // (memory.retrieval_recent_twins): compared with the words of the last few images, whose
+      // number bounds the comparison's time.
       constexpr float kNone = std::numeric_limits<float>::max();
-      const long long mark = memory.dictionary().JoinMark();
+      const long long mark =
+          ahead ? memory.dictionary().JoinMark() : staging->JoinMarkBefore(time.recent_twins);
       for (WordId word : UnsearchedWords(*staged, memory.dictionary(), ltm).first) {
         staged->matches[word] = WordAnswer{kNoWord, kNone, kNone, mark};
       }

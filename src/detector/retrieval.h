@@ -41,6 +41,10 @@ struct RetrievalTime {
   // joined since.
   bool ahead_unsearched = false;
   bool newer_first = true;
+  // Staged, memory.retrieval_recent_twins (-1: off): a location asked for whose words the
+  // iteration has no room to search comes back now, its words compared only with those that
+  // joined since the retrieval step this many images before (RetrievalStaging::JoinMarkBefore).
+  int recent_twins = -1;
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest

@@ -54,13 +54,21 @@ void RetrievalStaging::Want(Staged& staged, int priority) {
   staged.rank = (static_cast<long long>(priority) << 32) + wanted_++;
 }
 
-void RetrievalStaging::StartIteration() {
+void RetrievalStaging::StartIteration(long long join_mark) {
   ++iteration_;
   wanted_ = 0;
+  join_marks_.push_back(join_mark);
+  if (join_marks_.size() > kMarksKept) join_marks_.pop_front();
   for (auto entry = staged_.begin(); entry != staged_.end();) {
     entry =
         iteration_ - entry->second.touched > kForgetAfter ? staged_.erase(entry) : std::next(entry);
   }
+}
+
+long long RetrievalStaging::JoinMarkBefore(int images) const {
+  if (join_marks_.empty()) return 0;
+  const size_t back = std::min(join_marks_.size() - 1, static_cast<size_t>(std::max(0, images)));
+  return join_marks_[join_marks_.size() - 1 - back];  // back() is this iteration's
 }
 
 std::vector<std::pair<LocationId, RetrievalStaging::Staged*>> RetrievalStaging::ByRecency() {

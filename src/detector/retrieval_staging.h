@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -71,9 +72,14 @@ class RetrievalStaging {
   // This iteration wants `staged`: with `priority` (0 first), then in the order of the calls.
   void Want(Staged& staged, int priority);
   void Erase(LocationId id) { staged_.erase(id); }
-  // Counts iterations; forgets what was not wanted for kForgetAfter of them.
-  void StartIteration();
+  // Counts iterations; forgets what was not wanted for kForgetAfter of them. `join_mark`: the
+  // dictionary's JoinMark() now, remembered for JoinMarkBefore.
+  void StartIteration(long long join_mark = 0);
   long long iteration() const { return iteration_; }
+  // The dictionary's JoinMark() at the start of the iteration `images` before this one (the
+  // oldest remembered when that is older: kMarksKept).
+  long long JoinMarkBefore(int images) const;
+  static constexpr size_t kMarksKept = 32;
   size_t size() const { return staged_.size(); }
   // The staged locations, those this iteration (or the latest) wanted first, in their order.
   std::vector<std::pair<LocationId, Staged*>> ByRecency();
@@ -81,7 +87,8 @@ class RetrievalStaging {
  private:
   std::map<LocationId, Staged> staged_;
   long long iteration_ = 0;
-  long long wanted_ = 0;  // Want calls this iteration
+  long long wanted_ = 0;              // Want calls this iteration
+  std::deque<long long> join_marks_;  // of the last kMarksKept iterations, the newest last
 };
 
 // The words of a staged location's signature (as read ahead) that left the dictionary and have

@@ -33,11 +33,12 @@ class RetrievalStagingTest : public ::testing::Test {
     return staged;
   }
 
-  // Staged retrieval of `target` (at most 2), with room for retrievals but none for a chunk of
-  // search (a chunk expected to take 10 ms, 5 before the deadline).
+  // Staged retrieval of `target` (at most `max_retrieved`), with room for retrievals but none for
+  // a chunk of search (a chunk expected to take 10 ms, 5 before the deadline).
   RetrievalOutcome RetrieveWithoutRoomToSearch(LocationId target, bool ahead_unsearched,
-                                               bool newer_first = true) {
-    staging_.StartIteration();
+                                               bool newer_first = true, int recent_twins = -1,
+                                               int max_retrieved = 2) {
+    staging_.StartIteration(memory_.dictionary().JoinMark());
     StepCost chunk;
     chunk.Record(5);
     RetrievalTime time;
@@ -47,7 +48,25 @@ class RetrievalStagingTest : public ::testing::Test {
     time.staging = &staging_;
     time.ahead_unsearched = ahead_unsearched;
     time.newer_first = newer_first;
-    return Retrieve(target, 2, 4, memory_, *ltm_, time);
+    time.recent_twins = recent_twins;
+    return Retrieve(target, max_retrieved, 4, memory_, *ltm_, time);
+  }
+
+  // Three images' retrieval steps: word 300, a twin of word 30 (3000, 1), joins before the second;
+  // 200, a twin of word 70 (7000, 1), and 201 (7100, 0) before the third, which asks for L3 with
+  // no room to search, looking for twins `recent_twins` images back.
+  RetrievalOutcome RetrieveAfterTwinsJoined(int recent_twins) {
+    staging_.StartIteration(memory_.dictionary().JoinMark());
+    memory_.dictionary().Add({300}, (cv::Mat_<float>(1, 2) << 3000, 1));
+    staging_.StartIteration(memory_.dictionary().JoinMark());
+    memory_.dictionary().Add({200, 201}, (cv::Mat_<float>(2, 2) << 7000, 1, 7100, 0));
+    return RetrieveWithoutRoomToSearch(ids_[2], /*ahead_unsearched=*/false, /*newer_first=*/true,
+                                       recent_twins, /*max_retrieved=*/1);
+  }
+
+  // The words that stood for the images' (whose locations this map does not hold).
+  void RemoveWordsOfNoLocation(const std::vector<WordId>& words) {
+    for (WordId word : words) memory_.dictionary().Remove(word);
   }
 
   // Retrieval with time to spare, staged.
@@ -177,6 +196,44 @@ TEST_F(RetrievalStagingTest, WithoutTheParameterEveryStagedLocationIsSearched) {
   const RetrievalOutcome outcome = RetrieveWithoutRoomToSearch(ids_[2], /*ahead_unsearched=*/false);
   EXPECT_TRUE(outcome.retrieved.empty());
   EXPECT_EQ(outcome.deferred, 2);
+}
+
+// memory.retrieval_recent_twins = 1: without room to search, L3 comes back at once, its words
+// compared with those that joined since the retrieval step one image before:
+// word 70 is replaced by its twin 200 (1 against 100 for 201), word 30 matches neither (4000
+// against 4100, over the 0.8 ratio), and its older twin 300 is not looked for: 30 comes back
+// under its own id.
+TEST_F(RetrievalStagingTest, WithoutRoomTheRecentTwinsAreFoundAtOnce) {
+  const RetrievalOutcome outcome = RetrieveAfterTwinsJoined(/*recent_twins=*/1);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(outcome.deferred, 0);
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{30, 200}));
+  EXPECT_TRUE(memory_.dictionary().Contains(30));
+  RemoveWordsOfNoLocation({201, 300});
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// Two images back, the twin 300 joined since: word 30 is replaced by it (1 against 4000).
+TEST_F(RetrievalStagingTest, TwinsAreLookedForAsManyImagesBackAsTheParameterSays) {
+  const RetrievalOutcome outcome = RetrieveAfterTwinsJoined(/*recent_twins=*/2);
+  EXPECT_EQ(outcome.retrieved, (std::vector<LocationId>{ids_[2]}));
+  EXPECT_EQ(memory_.at(ids_[2]).signature.words, (std::vector<WordId>{300, 200}));
+  EXPECT_FALSE(memory_.dictionary().Contains(30));
+  RemoveWordsOfNoLocation({201});
+  EXPECT_TRUE(map_.CheckConsistencyEmpty());
+}
+
+// The join marks of the last iterations; the oldest kept when asked for more.
+TEST(RetrievalStagingOrderTest, JoinMarksOfTheLastIterations) {
+  RetrievalStaging staging;
+  staging.StartIteration(10);
+  staging.StartIteration(20);
+  staging.StartIteration(30);
+  EXPECT_EQ(staging.JoinMarkBefore(0), 30);
+  EXPECT_EQ(staging.JoinMarkBefore(2), 10);
+  EXPECT_EQ(staging.JoinMarkBefore(5), 10);
+  for (size_t i = 0; i < RetrievalStaging::kMarksKept; ++i) staging.StartIteration(100);
+  EXPECT_EQ(staging.JoinMarkBefore(RetrievalStaging::kMarksKept), 100);  // 30 is no longer kept
 }
 
 // A location wanted in one of the last kCarryOnFor iterations, not this one, is carried on.

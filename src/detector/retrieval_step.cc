@@ -28,10 +28,11 @@ RetrievalTime RetrievalStep::TimeOf(const std::function<StepDeadline(StepCost*)>
   time.search_chunk = deadline_of(&chunk_cost_);
   time.read_ahead = read_ahead_.get();
   if (staged_search_) {
-    staging_.StartIteration();
+    staging_.StartIteration(memory_.dictionary().JoinMark());
     time.staging = &staging_;
     time.staged_checks = options_.retrieval_kd_checks;
     time.ahead_unsearched = options_.retrieval_ahead_unsearched != 0;
+    time.recent_twins = options_.retrieval_recent_twins;
   }
   return time;
 }

@@ -19,5 +19,18 @@ TEST(TravelDirectionTest, FollowsTheStepsBetweenRecognizedPlaces) {
   EXPECT_TRUE(direction.newer_first());  // 40 -> 44
 }
 
+// A jump to another part of the map (a revisit starting, a mistaken image) is no step: newer
+// first, the way a robot mostly revisits a route, until a step says otherwise.
+TEST(TravelDirectionTest, AJumpIsNoStep) {
+  TravelDirection direction;
+  direction.Observe(815);
+  direction.Observe(42);  // 815 -> 42: a revisit of an old place starts
+  EXPECT_TRUE(direction.newer_first());
+  direction.Observe(42 - TravelDirection::kMaxStep);  // a step back, the longest one
+  EXPECT_FALSE(direction.newer_first());
+  direction.Observe(100);  // jumped
+  EXPECT_TRUE(direction.newer_first());
+}
+
 }  // namespace
 }  // namespace memloop
