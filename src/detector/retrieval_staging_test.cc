@@ -64,7 +64,7 @@ class RetrievalStagingTest : public ::testing::Test {
                                        recent_twins, /*max_retrieved=*/1);
   }
 
-  // The words that stood for the images' (whose locations this map does not hold).
+  // Words added as the images' new words: no location of this map holds them.
   void RemoveWordsOfNoLocation(const std::vector<WordId>& words) {
     for (WordId word : words) memory_.dictionary().Remove(word);
   }
