@@ -140,12 +140,45 @@ TEST(DetectorIntegrationTest, RetrievalWaitsForAHypothesisValue) {
   }
 }
 
+// memory.retrieved_kept_last_iterations: a location retrieved in the last 10 iterations leaves
+// WM only after all the others, and the budget still holds. Counted: retrieved locations
+// transferred again within 10 iterations of their retrieval, under a WM budget of 30.
+TEST(DetectorIntegrationTest, JustRetrievedLocationsLeaveWorkingMemoryLast) {
+  const SyntheticRoute route;
+  const auto quick_returns = [&](int kept_last_iterations) {
+    Options options = Deterministic();
+    options.memory.max_wm_locations = 30;
+    options.memory.retrieved_kept_last_iterations = kept_last_iterations;
+    std::map<LocationId, long long> retrieved_at;
+    int returns = 0;
+    long long iteration = 0;
+    for (const Result& result : RunRoute(route, options, false)) {
+      EXPECT_LE(result.wm_size, 30 + options.memory.max_retrieved) << result.Brief();
+      for (LocationId id : result.transferred_ids) {
+        const auto retrieved = retrieved_at.find(id);
+        if (retrieved != retrieved_at.end() && iteration - retrieved->second < 10) ++returns;
+      }
+      for (LocationId id : result.retrieved_ids) retrieved_at[id] = iteration;
+      ++iteration;
+    }
+    return returns;
+  };
+  const int by_weight_and_age = quick_returns(0);
+  const int kept_last = quick_returns(10);
+  std::cout << "retrieved locations transferred again within 10 images: " << by_weight_and_age
+            << " (by weight and age), " << kept_last << " (kept last)\n";
+  EXPECT_GT(by_weight_and_age, 0);
+  EXPECT_LT(kept_last * 4, by_weight_and_age);
+}
+
 // Issue 8: recall degrades gracefully as the WM budget shrinks (the highest hypothesis'
 // neighbourhood leaves WM last). Under a small budget a revisit is found only once a retrieval
 // happens to bring its place back from LTM, so one route is a single draw: small differences (the
 // forest's rebuild schedule) move one seed's recall at WM 20 anywhere from 2% to 90%. The floors
-// are on the mean over six routes, a margin under the measured 42% / 65% / 97% at WM 20 / 30 / 45
-// (65% / 68% / 97.5% with memory.retrieval_min_value=0: retrievals for a hypothesis at noise level
+// are on the mean over six routes, a margin under the measured 78% / 91% / 97.5% at WM 20 / 30 /
+// 45 (42% / 65% / 97% before memory.retrieved_kept_last_iterations, when a location retrieved for
+// a revisit was often the first to leave again; 65% / 68% / 97.5% before that with
+// memory.retrieval_min_value=0: retrievals for a hypothesis at noise level
 // cycle a small LTM through WM, which helps on a 300-image route and is pure cost at scale,
 // docs/design.md); the paper2011 preset's own rules are compared in the test after this one.
 // Known gap: an image just after a revisited stretch (the first of the second detour, image 190)
@@ -153,7 +186,7 @@ TEST(DetectorIntegrationTest, RetrievalWaitsForAHypothesisValue) {
 // Command: memloop demo --seed S --set memory.time_limit_ms=0 memory.max_wm_locations=N
 TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets) {
   const std::vector<int> seeds = {1, 2, 3, 4, 5, 7};
-  const std::map<int, double> floors = {{20, 0.30}, {30, 0.55}, {45, 0.90}};
+  const std::map<int, double> floors = {{20, 0.65}, {30, 0.80}, {45, 0.90}};
   for (const auto& [budget, floor] : floors) {
     std::vector<std::future<PrecisionRecall>> runs;
     for (int seed : seeds) {  // two at a time: the machine has 2 cores
@@ -176,6 +209,8 @@ TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets)
       recall += score.Recall() / seeds.size();
       false_positives += score.false_positives;
     }
+    std::cout << "WM " << budget << ": mean recall " << recall << ", false positives "
+              << false_positives << "\n";
     EXPECT_GE(recall, floor) << "budget " << budget;
     EXPECT_LE(false_positives, 3) << "budget " << budget;
   }

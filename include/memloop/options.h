@@ -146,11 +146,24 @@ struct MemoryOptions {
   // code waited 10 (Mem/DelayRequired): by weight and age, a retrieved old location would
   // otherwise be the first to leave again at the next iteration.
   int retrieved_immune_iterations = 1;
+  // During this many iterations, the retrieving one included, a retrieved location leaves WM
+  // only after all the others (as the highest hypothesis' neighbourhood, protect_hypothesis), so
+  // that the budgets still hold (memloop, issue 37: under T_time a location retrieved for a
+  // revisit left again two images later, when a chance hypothesis was the highest, before the
+  // filter had carried the revisit onto it; docs/design.md). 0: off (the paper).
+  int retrieved_kept_last_iterations = 10;
   // The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared
   // with T_loop) reaches this (memloop: below it the highest hypothesis is noise; over 50,000
   // images 91% of the retrieved locations were never matched and 81% came back at a value under
   // 0.01, each re-matching ~150 words; docs/design.md). 0: whatever the value (the paper, III-E).
   double retrieval_min_value = 0.02;
+  // Under T_time, a highest hypothesis under this value is retrieved for only when its retrieval
+  // is expected to end within the first half of T_time (a staged retrieval's cost falls on the
+  // next iterations); at or over it, and with T_time off, as before (memloop, issue
+  // 37: under a tight T_time most retrievals were of chance hypotheses just over
+  // retrieval_min_value, and made the iterations over T_time; a threshold of 0.05 at every
+  // iteration also cut retrievals under WM budgets, and cost recall on real data). 0: off.
+  double retrieval_strong_value = 0.05;
   // 1 (with T_time on): a location is retrieved only when the iteration, with its expected
   // retrieval time, still ends under T_time; the others wait for a
   // later iteration (memloop, issue 9: re-matching one location's words costs about as much as

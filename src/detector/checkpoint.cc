@@ -100,6 +100,8 @@ constexpr const char* kIndexPending = "index_pending";             // empty: no 
 constexpr const char* kIndexPendingWords = "index_pending_words";  // its snapshot, once per build
 constexpr const char* kFilter = "filter";
 constexpr const char* kPastMatches = "past_matches";
+// Absent from maps written before retrieved_kept_last_iterations (2026-12-05): none.
+constexpr const char* kKeptLast = "retrieved_kept_last";
 
 }  // namespace
 
@@ -159,7 +161,8 @@ void CheckpointWriter::AddState(CheckpointData& checkpoint, const std::string& k
 
 CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& filter,
                                       const std::vector<PastMatch>& past_matches,
-                                      const DetectorCounters& counters) {
+                                      const DetectorCounters& counters,
+                                      const RecentRetrievals& kept_last) {
   CheckpointData checkpoint;
   checkpoint.full = first_;
   // Locations: written when new or changed, removed when they left memory. Only those Memory
@@ -276,6 +279,12 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
     matches.Put<int32_t>(match.matched).Put<int32_t>(match.matcher);
   }
   AddState(checkpoint, kPastMatches, matches.Take());
+  ByteWriter retrieved;
+  retrieved.Put(static_cast<uint64_t>(kept_last.retrieved_at().size()));
+  for (const auto& [id, iteration] : kept_last.retrieved_at()) {
+    retrieved.Put<int32_t>(id).Put<int64_t>(iteration);
+  }
+  AddState(checkpoint, kKeptLast, retrieved.Take());
   first_ = false;
   return checkpoint;
 }
@@ -400,6 +409,15 @@ ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> for
     }
     reader.ExpectEnd();
   }
+  if (const std::optional<std::vector<unsigned char>> bytes = database.ReadState(kKeptLast)) {
+    ByteReader reader(*bytes, "the checkpoint's retrieved locations");
+    const size_t count = reader.Count(12);
+    for (size_t k = 0; k < count; ++k) {
+      const auto id = reader.Get<int32_t>();
+      state.kept_last[id] = reader.Get<int64_t>();
+    }
+    reader.ExpectEnd();
+  }
   std::set<WordId> words;
   for (const auto& [id, data] : database.ReadMemoryLocations()) {
     Location location = DecodeLocation(data);
@@ -438,7 +456,7 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) 
 }
 
 DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
-                                   MapEditor& editor) {
+                                   MapEditor& editor, RecentRetrievals& kept_last) {
   ResumeState state = ReadCheckpoint(database, memory.dictionary());
   try {
     memory.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
@@ -452,6 +470,7 @@ DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesF
   }
   filter.Reload(std::move(state.posterior), state.virtual_place);
   editor.SetPastMatches(std::move(state.past_matches));
+  kept_last.Reload(std::move(state.kept_last));
   return state.counters;
 }
 

@@ -19,6 +19,7 @@
 #include "detector/bayes_filter.h"
 #include "detector/map_editor.h"
 #include "detector/memory.h"
+#include "detector/transfer.h"
 #include "storage/ltm_database.h"
 #include "vocabulary/word_bitset.h"
 #include "vocabulary/word_index.h"
@@ -44,13 +45,15 @@ struct ResumeState {
   IdMap<double> posterior;
   double virtual_place = 1;
   std::vector<PastMatch> past_matches;
+  std::map<LocationId, long long> kept_last;  // RecentRetrievals of retrieved_kept_last_iterations
 };
 
 class CheckpointWriter {
  public:
   // What changed since the previous call (everything at the first call of this object).
   CheckpointData Next(const Memory& memory, const BayesFilter& filter,
-                      const std::vector<PastMatch>& past_matches, const DetectorCounters& counters);
+                      const std::vector<PastMatch>& past_matches, const DetectorCounters& counters,
+                      const RecentRetrievals& kept_last = RecentRetrievals(0));
 
  private:
   void AddState(CheckpointData& checkpoint, const std::string& key,
@@ -70,11 +73,11 @@ class CheckpointWriter {
 // naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged.
 ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
 
-// Reads the checkpoint into `memory` (its dictionary included), `filter` and `editor`'s past
-// matches, and returns its counters. Throws DatabaseError naming the file when the checkpoint
-// cannot be read or does not fit together.
+// Reads the checkpoint into `memory` (its dictionary included), `filter`, `editor`'s past
+// matches and `kept_last`, and returns its counters. Throws DatabaseError naming the file when the
+// checkpoint cannot be read or does not fit together.
 DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
-                                   MapEditor& editor);
+                                   MapEditor& editor, RecentRetrievals& kept_last);
 
 // The counters of the map's last checkpoint alone (no dictionary needed); none when it holds no
 // checkpoint. Throws DatabaseError naming the file when they are damaged.

@@ -87,12 +87,15 @@ class CheckpointWriterTest : public ::testing::Test {
     return options;
   }
 
-  CheckpointData Next() { return writer_.Next(memory_, filter_, past_matches_, counters_); }
+  CheckpointData Next() {
+    return writer_.Next(memory_, filter_, past_matches_, counters_, kept_last_);
+  }
 
   Memory memory_;
   BayesFilter filter_;
   std::vector<PastMatch> past_matches_;
   DetectorCounters counters_;
+  RecentRetrievals kept_last_{10};
   CheckpointWriter writer_;
 };
 
@@ -103,8 +106,9 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(first.locations.size(), 3u);
   EXPECT_EQ(first.index_words, (std::vector<WordId>{1, 2, 3, 4}));
   EXPECT_EQ(first.index_descriptors.size(), 4u);
-  EXPECT_EQ(first.state.size(), 6u);  // counters, stm, index (and pending build), filter, past
-                                      // matches; no LTM mark yet, so no chunk of them
+  EXPECT_EQ(first.state.size(), 7u);  // counters, stm, index (and pending build), filter, past
+                                      // matches, retrieved locations kept last; no LTM mark yet,
+                                      // so no chunk of them
 
   const CheckpointData unchanged = Next();
   EXPECT_FALSE(unchanged.full);
@@ -274,7 +278,9 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   filter_.Reload({{1, 0.25}, {2, 0.5}}, 0.25);
   past_matches_ = {{1, 4}};
   counters_ = {11, 12, 4};
+  kept_last_.Retrieved({2}, 9);
   database.WriteCheckpoint(Next());
+  kept_last_.Retrieved({1}, 12);
   memory_.ClearChanged();
   memory_.at(3).weight = 2;
   memory_.dictionary().MarkReferencedByLtm(1);
@@ -297,6 +303,7 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   EXPECT_EQ(state.virtual_place, 0.25);
   ASSERT_EQ(state.past_matches.size(), 1u);
   EXPECT_EQ(state.past_matches[0].matcher, 4);
+  EXPECT_EQ(state.kept_last, (std::map<LocationId, long long>{{1, 12}, {2, 9}}));
   EXPECT_EQ(state.index.point_count, 4u);
   EXPECT_EQ(state.index.point_words, (std::vector<WordId>{1, 2, 3, 4}));
 

@@ -182,7 +182,8 @@ class Detector::Impl {
     ++counters_.images_processed;
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
-    retrieval_immunity_.StartIteration(counters_.images_processed);
+    retrieved_immune_.StartIteration(counters_.images_processed);
+    retrieved_kept_last_.StartIteration(counters_.images_processed);
     ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
     ltm_.TakeFileReadMs();
     iteration_cpu_start_ms_ = ThreadCpuMs();
@@ -219,7 +220,7 @@ class Detector::Impl {
     // ltm_ checked the file
     LtmDatabase database(path, localizing_ ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kAttach);
     CheckMapParameters(database, options_);
-    counters_ = RestoreCheckpoint(database, memory_, filter_, editor_);
+    counters_ = RestoreCheckpoint(database, memory_, filter_, editor_, retrieved_kept_last_);
     for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
     if (appearance_) ReloadAppearance(database, memory_, ltm_, *appearance_);
     sessions_.Resume(database.ReadSessions(), counters_.last_image);
@@ -256,7 +257,8 @@ class Detector::Impl {
   void WriteCheckpoint() {
     checkpoint_due_ = false;
     skipped_checkpoints_ = 0;
-    ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_));
+    ltm_.Checkpoint(checkpoints_.Next(memory_, filter_, editor_.past_matches(), counters_,
+                                      retrieved_kept_last_));
     memory_.ClearChanged();
   }
 
@@ -478,14 +480,16 @@ class Detector::Impl {
   }
 
   // III-E: the highest hypothesis' LTM neighbours, when its value reaches
-  // memory.retrieval_min_value (below, it is noise); then, with retrieval by appearance, the LTM
-  // location that looks most like the image (`appearance`) and its neighbours, when it stands out.
-  // With T_time on, each only if it still fits (memory.retrieval_within_time).
+  // memory.retrieval_min_value (below, it is noise; under T_time, WorthRetrieving); then, with
+  // retrieval by appearance, the LTM location that looks most like the image (`appearance`) and
+  // its neighbours, when it stands out. With T_time on, each only if it still fits
+  // (memory.retrieval_within_time).
   void RetrieveFromLtm(const Stopwatch& iteration, const Hypothesis& hypothesis,
                        const Appearance* appearance, Result& result) {
     signature_budget_.QuantizationOver();
     ScopedTimer timer(&result.times.retrieval_ms);
-    const bool above_noise = hypothesis.value >= options_.memory.retrieval_min_value;
+    const bool above_noise = WorthRetrieving(
+        options_.memory, hypothesis.value, iteration.ElapsedMs(), retrieval_.ExpectedLocationMs());
     // Room is left for the transfer after it, most of whose work the paper's rule makes whatever
     // the time (words transferred = words added).
     const double transfer_ms = transfer_step_cost_.expected_ms();
@@ -497,7 +501,8 @@ class Detector::Impl {
       if (appearance_) appearance_->Leave(id);
     }
     result.retrieved_ids = retrieved;
-    retrieval_immunity_.Retrieved(retrieved, counters_.images_processed);
+    retrieved_immune_.Retrieved(retrieved, counters_.images_processed);
+    retrieved_kept_last_.Retrieved(retrieved, counters_.images_processed);
   }
 
   // Retrieval by appearance: the LTM location that looks most like the image, when it stands out
@@ -528,7 +533,7 @@ class Detector::Impl {
         static_cast<int>(memory_.working_memory().size()), dictionary_size_at_start_);
     const Stopwatch stopwatch;
     result.transferred_ids =
-        Transfer(trigger, retrieval_immunity_.Immune(memory_), KeptLast(hypothesis), memory_,
+        Transfer(trigger, retrieved_immune_.InWorkingMemory(memory_), KeptLast(hypothesis), memory_,
                  editor_, DeadlineOf(iteration, &transfer_cost_));
     transfer_step_cost_.Record(stopwatch.ElapsedMs());
   }
@@ -536,8 +541,10 @@ class Detector::Impl {
   // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
   // that a place being recognized keeps its neighbours until the filter has decided (memloop;
   // the paper transfers them by weight and age like any other: memory.protect_hypothesis = 0).
+  // So do the locations just retrieved (memory.retrieved_kept_last_iterations): the highest
+  // hypothesis may be a chance one for an image or two of a revisit.
   std::set<LocationId> KeptLast(const Hypothesis& hypothesis) const {
-    std::set<LocationId> kept;
+    std::set<LocationId> kept = retrieved_kept_last_.InWorkingMemory(memory_);
     if (!options_.memory.protect_hypothesis || hypothesis.id == kNoLocation) return kept;
     for (const auto& [id, distance] :
          memory_.WmNeighbourhood(hypothesis.id, options_.filter.neighbour_range)) {
@@ -586,7 +593,8 @@ class Detector::Impl {
   bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
   double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
-  RetrievalImmunity retrieval_immunity_{options_.memory.retrieved_immune_iterations};
+  RecentRetrievals retrieved_immune_{options_.memory.retrieved_immune_iterations};
+  RecentRetrievals retrieved_kept_last_{options_.memory.retrieved_kept_last_iterations};
   RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view
   WholeImageAgreement agreement_{
       options_.features.whole_image ? options_.filter.whole_image_agreement : 0};

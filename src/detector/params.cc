@@ -127,8 +127,12 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, 1000).Help("Locations retrieved from LTM per iteration, at most"),
     Param("memory.retrieved_immune_iterations", MEMLOOP_FIELD(memory.retrieved_immune_iterations)).Unit("iterations")
         .Range(1, 100000).Symbol("III-F").Help("A retrieved location is not transferred during this many iterations, the retrieving one included (1 = the paper's text; its 2011 code: 10)"),
+    Param("memory.retrieved_kept_last_iterations", MEMLOOP_FIELD(memory.retrieved_kept_last_iterations)).Unit("iterations")
+        .Range(0, 100000).Help("During this many iterations, the retrieving one included, a retrieved location leaves WM only after all the others, budgets still met (0 = off, the paper)"),
     Param("memory.retrieval_min_value", MEMLOOP_FIELD(memory.retrieval_min_value)).Range(0, 1)
         .Help("The highest hypothesis' LTM neighbours are retrieved only when its value (the one compared with T_loop) reaches this (0 = whatever the value, the paper)"),
+    Param("memory.retrieval_strong_value", MEMLOOP_FIELD(memory.retrieval_strong_value)).Range(0, 1)
+        .Help("Under T_time, a highest hypothesis under this value is retrieved for only when its retrieval is expected to end within the first half of T_time (0 = off, the paper)"),
     Param("memory.retrieval_within_time", MEMLOOP_FIELD(memory.retrieval_within_time)).Flag()
         .Help("true, with T_time on: a location is retrieved only when the iteration still ends under T_time with it, the others wait for a later one (false = up to memory.max_retrieved whatever the time, the paper)"),
     Param("memory.retrieval_read_ahead", MEMLOOP_FIELD(memory.retrieval_read_ahead)).Flag()

@@ -74,6 +74,7 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           "memory.retrieval_within_time", "memory.retrieval_read_ahead",
           "memory.signature_within_time", "memory.retrieval_over_iterations",
           "memory.retrieval_kd_checks", "memory.max_dictionary_words", "memory.retrieval_min_value",
+          "memory.retrieved_kept_last_iterations", "memory.retrieval_strong_value",
           "features.min_image_side",
           // The paper's 2011 code where its text is silent; memloop's measured choices.
           "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees",

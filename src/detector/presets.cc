@@ -22,6 +22,7 @@ Options Options::Paper2011() {
   options.memory.retrieved_immune_iterations = 10;  // Mem/DelayRequired
   options.memory.stm_size = 25;
   options.memory.protect_hypothesis = 0;
+  options.memory.retrieved_kept_last_iterations = 0;
   options.memory.appearance_retrieval = 0;
   options.memory.retrieval_within_time = 0;
   options.memory.signature_within_time = 0;
@@ -29,6 +30,7 @@ Options Options::Paper2011() {
   options.memory.retrieval_kd_checks = 0;  // the dictionary's, as the 2011 code
   options.memory.retrieval_read_ahead = 0;
   options.memory.retrieval_min_value = 0;
+  options.memory.retrieval_strong_value = 0;
   options.memory.time_target = 1.0;
   options.memory.transfer_max_fraction = 0;
   options.memory.wm_min_time_share = 0;

@@ -4,6 +4,13 @@
 
 namespace memloop {
 
+bool WorthRetrieving(const MemoryOptions& memory, double value, double elapsed_ms,
+                     double expected_ms) {
+  if (value < memory.retrieval_min_value) return false;
+  if (memory.time_limit_ms <= 0 || value >= memory.retrieval_strong_value) return true;
+  return elapsed_ms + expected_ms <= 0.5 * memory.time_limit_ms;
+}
+
 RetrievalStep::RetrievalStep(const MemoryOptions& memory, int neighbour_range, Memory& memory_state,
                              LongTermMemory& ltm)
     : options_(memory), range_(neighbour_range), memory_(memory_state), ltm_(ltm) {

@@ -19,6 +19,16 @@
 
 namespace memloop {
 
+// Whether the highest hypothesis, of value `value`, is worth retrieving its LTM neighbours for:
+// at least memory.retrieval_min_value; under T_time, a value under memory.retrieval_strong_value
+// only when the retrieval (`expected_ms`) is expected to end within the first half of T_time,
+// `elapsed_ms` being the iteration's time so far. A staged retrieval's cost falls mostly on the
+// next iterations, so what is asked for must leave them room: under a loose T_time (67 ms, or 700
+// by default) every iteration does, as with T_time off; under a tight one, where the signature
+// step alone takes over half of T_time, only the hypotheses worth it are retrieved for.
+bool WorthRetrieving(const MemoryOptions& memory, double value, double elapsed_ms,
+                     double expected_ms);
+
 class RetrievalStep {
  public:
   // The read-ahead thread and the search beside the extraction exist only when T_time is on with
@@ -38,6 +48,8 @@ class RetrievalStep {
   std::vector<LocationId> Retrieve(LocationId by_hypothesis, LocationId by_appearance,
                                    const std::function<StepDeadline(StepCost*)>& deadline_of,
                                    Result& result);
+  // A location's retrieval is expected to take this long (0 until one is timed, or T_time off).
+  double ExpectedLocationMs() const { return location_cost_.expected_ms(); }
 
  private:
   RetrievalTime TimeOf(const std::function<StepDeadline(StepCost*)>& deadline_of);

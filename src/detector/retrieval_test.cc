@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "detector/retrieval_step.h"
 #include "small_map.h"
 
 namespace memloop {
@@ -118,6 +119,25 @@ TEST_F(RetrievalTest, OnlyTheNextTwoIterationsAreReadAhead) {
             (std::vector<LocationId>{ids_[2]}));
   EXPECT_EQ(Retrieve(ids_[0], 1, 4, memory_, *ltm_, time).retrieved,
             (std::vector<LocationId>{ids_[3]}));  // L4, read when needed
+}
+
+// WorthRetrieving (memory.retrieval_min_value 0.02, memory.retrieval_strong_value 0.05): with
+// T_time 20 ms, a hypothesis of 0.03 is retrieved for while 7 + 3 ms <= 10 ms (half of T_time), not
+// at 8 + 3 ms; one of 0.05 whatever the time; under 0.02 never; with T_time off, from 0.02 on.
+TEST(WorthRetrievingTest, AWeakHypothesisOnlyInTheFirstHalfOfTTime) {
+  MemoryOptions memory;
+  memory.retrieval_min_value = 0.02;
+  memory.retrieval_strong_value = 0.05;
+  memory.time_limit_ms = 20;
+  EXPECT_TRUE(WorthRetrieving(memory, 0.03, 7, 3));
+  EXPECT_FALSE(WorthRetrieving(memory, 0.03, 8, 3));
+  EXPECT_TRUE(WorthRetrieving(memory, 0.05, 19, 3));
+  EXPECT_FALSE(WorthRetrieving(memory, 0.019, 0, 0));
+  memory.time_limit_ms = 0;
+  EXPECT_TRUE(WorthRetrieving(memory, 0.02, 1000, 3));
+  memory.time_limit_ms = 20;
+  memory.retrieval_strong_value = 0;  // off: the paper's rule with memloop's floor alone
+  EXPECT_TRUE(WorthRetrieving(memory, 0.03, 19, 3));
 }
 
 }  // namespace

@@ -88,23 +88,24 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
   return transferred;
 }
 
-void RetrievalImmunity::StartIteration(long long iteration) {
+void RecentRetrievals::StartIteration(long long iteration) {
   for (auto entry = retrieved_at_.begin(); entry != retrieved_at_.end();) {
     entry =
         iteration - entry->second >= iterations_ ? retrieved_at_.erase(entry) : std::next(entry);
   }
 }
 
-void RetrievalImmunity::Retrieved(const std::vector<LocationId>& ids, long long iteration) {
+void RecentRetrievals::Retrieved(const std::vector<LocationId>& ids, long long iteration) {
+  if (iterations_ <= 0) return;
   for (LocationId id : ids) retrieved_at_[id] = iteration;
 }
 
-std::set<LocationId> RetrievalImmunity::Immune(const Memory& memory) const {
-  std::set<LocationId> immune;
+std::set<LocationId> RecentRetrievals::InWorkingMemory(const Memory& memory) const {
+  std::set<LocationId> in_wm;
   for (const auto& [id, iteration] : retrieved_at_) {
-    if (memory.InWorkingMemory(id)) immune.insert(id);
+    if (memory.InWorkingMemory(id)) in_wm.insert(id);
   }
-  return immune;
+  return in_wm;
 }
 
 }  // namespace memloop

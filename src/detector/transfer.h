@@ -58,22 +58,30 @@ TransferTrigger MakeTransferTrigger(const MemoryOptions& memory, double elapsed_
 
 // WM locations in the order they would be transferred: lowest weight first, then oldest
 // (smallest id); `immune` ones (retrieved this iteration) never; `last` ones (the highest
-// hypothesis' neighbourhood) only after all others, in the same order among themselves.
+// hypothesis' neighbourhood, the locations just retrieved) only after all others, in the same
+// order among themselves.
 std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<LocationId>& immune,
                                       const std::set<LocationId>& last = {});
 
-// Retrieved locations are not transferred during `iterations` iterations, the retrieving one
-// included (III-F: "the retrieved locations of the current iteration", 1; the paper's 2011 code:
-// 10, Mem/DelayRequired; memory.retrieved_immune_iterations). Iterations are counted by the
-// caller (images processed). Not in the checkpoint: a resumed run starts with none immune.
-class RetrievalImmunity {
+// The locations retrieved in the last `iterations` iterations, the retrieving one included
+// (0: none). Two uses: III-F's immunity to Transfer ("the retrieved locations of the current
+// iteration", 1; the paper's 2011 code: 10, Mem/DelayRequired; memory.retrieved_immune_iterations),
+// and memloop's "leave WM last" (memory.retrieved_kept_last_iterations). Iterations are counted
+// by the caller (images processed). The kept-last ones are in the checkpoint (a resumed run
+// transfers as the uninterrupted one); the immune ones, one iteration by default, are not.
+class RecentRetrievals {
  public:
-  explicit RetrievalImmunity(int iterations) : iterations_(iterations) {}
+  explicit RecentRetrievals(int iterations) : iterations_(iterations) {}
   // Forgets the locations retrieved `iterations` or more iterations before `iteration`.
   void StartIteration(long long iteration);
   void Retrieved(const std::vector<LocationId>& ids, long long iteration);
-  // The immune locations still in WM.
-  std::set<LocationId> Immune(const Memory& memory) const;
+  // Those still in WM.
+  std::set<LocationId> InWorkingMemory(const Memory& memory) const;
+  // Each location with the iteration that retrieved it (the checkpoint's), and back.
+  const std::map<LocationId, long long>& retrieved_at() const { return retrieved_at_; }
+  void Reload(std::map<LocationId, long long> retrieved_at) {
+    retrieved_at_ = std::move(retrieved_at);
+  }
 
  private:
   int iterations_;

@@ -170,29 +170,33 @@ TEST(LocationsOverTimeTest, WmKeepsItsShareOfTheTargetWhenTheRestIsTheCost) {
   EXPECT_EQ(LocationsOverTime(90, 10, 75, 1000, 0.5, 0.25), 0);  // within its share
 }
 
-// memory.retrieved_immune_iterations: retrieved at iteration 5 with 3 iterations of immunity,
+// memory.retrieved_immune_iterations (and _kept_last_): retrieved at iteration 5 with 3 iterations,
 // immune at 5, 6 and 7, not at 8; a location that left WM is not reported.
 TEST_F(TransferTest, RetrievedLocationsStayImmuneForTheirIterations) {
-  RetrievalImmunity immunity(3);
+  RecentRetrievals immunity(3);
   immunity.StartIteration(5);
   immunity.Retrieved({ids_[1], ids_[2]}, 5);
-  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[1], ids_[2]}));
+  EXPECT_EQ(immunity.InWorkingMemory(memory_), (std::set<LocationId>{ids_[1], ids_[2]}));
   immunity.StartIteration(7);
   immunity.Retrieved({ids_[3]}, 7);
-  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[1], ids_[2], ids_[3]}));
+  EXPECT_EQ(immunity.InWorkingMemory(memory_), (std::set<LocationId>{ids_[1], ids_[2], ids_[3]}));
   immunity.StartIteration(8);
-  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[3]}));
-  EXPECT_EQ(TransferOrder(memory_, immunity.Immune(memory_)),
+  EXPECT_EQ(immunity.InWorkingMemory(memory_), (std::set<LocationId>{ids_[3]}));
+  EXPECT_EQ(TransferOrder(memory_, immunity.InWorkingMemory(memory_)),
             (std::vector<LocationId>{ids_[1], ids_[2], ids_[0]}));
-  RetrievalImmunity text(1);  // the paper's text: the retrieving iteration only
+  RecentRetrievals text(1);  // the paper's text: the retrieving iteration only
   text.StartIteration(5);
   text.Retrieved({ids_[1]}, 5);
-  EXPECT_EQ(text.Immune(memory_), (std::set<LocationId>{ids_[1]}));
+  EXPECT_EQ(text.InWorkingMemory(memory_), (std::set<LocationId>{ids_[1]}));
   text.StartIteration(6);
-  EXPECT_TRUE(text.Immune(memory_).empty());
+  EXPECT_TRUE(text.InWorkingMemory(memory_).empty());
   immunity.Retrieved({ids_[0]}, 8);
   editor_.TransferToLtm(ids_[0]);
-  EXPECT_EQ(immunity.Immune(memory_), (std::set<LocationId>{ids_[3]}));
+  EXPECT_EQ(immunity.InWorkingMemory(memory_), (std::set<LocationId>{ids_[3]}));
+  RecentRetrievals off(0);  // memory.retrieved_kept_last_iterations = 0: none, not even now
+  off.StartIteration(5);
+  off.Retrieved({ids_[1]}, 5);
+  EXPECT_TRUE(off.InWorkingMemory(memory_).empty());
 }
 
 }  // namespace
