@@ -13,7 +13,9 @@
 # Usage: bench/scale.sh [PLACES] > docs/scale-run.md
 # Environment: RUNS="time budget off", TTIME_MS, BUDGET=500, MIN_AGE=10000, OFF_SECONDS=1800,
 # BUILD_DIR=build, OUT=folder to keep the CSVs in (default: a temporary one), PLOT=the plot's path,
-# SETS="name=value ..." given to every run (calibration included) after the run's own.
+# SETS="name=value ..." given to every run (calibration included) after the run's own,
+# REALTIME_PRIORITY=N: every run with --realtime-priority N, PACE_HZ=R: the T_time run with
+# --pace R (a camera at R Hz; docs/cli.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -29,6 +31,8 @@ sequence=(--places "$places" --frames-per-place 10 --revisit-every 10 --min-revi
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 echo "sequence: memloop demo ${sequence[*]}"
 [ -n "${SETS:-}" ] && echo "every run: --set $SETS"
+[ -n "${REALTIME_PRIORITY:-}" ] && echo "every run: --realtime-priority $REALTIME_PRIORITY"
+[ -n "${PACE_HZ:-}" ] && echo "the T_time run: --pace $PACE_HZ"
 
 # One run: memloop demo with the given --set values; RSS sampled every second against the rows
 # written so far, with the machine's steal time (/proc/stat, clock ticks: time a virtual machine's
@@ -41,8 +45,11 @@ run() {  # name seconds(0 = no limit) sets...
   [ "$seconds" != 0 ] && limit=(timeout --signal=KILL "$seconds")
   local extra=()
   [ -n "${SETS:-}" ] && read -r -a extra <<<"$SETS"
+  local args=()
+  [ -n "${REALTIME_PRIORITY:-}" ] && args=(--realtime-priority "$REALTIME_PRIORITY")
+  [ "$name" = time ] && [ -n "${PACE_HZ:-}" ] && args+=(--pace "$PACE_HZ")
   "${limit[@]}" /usr/bin/time -f "%M" -o "$out/$name.peak" "$build/memloop" demo "${sequence[@]}" \
-    --set "$@" "${extra[@]}" --db "$out/$name.db" --out "$out/$name.csv" >"$out/$name.txt" 2>/dev/null &
+    "${args[@]}" --set "$@" "${extra[@]}" --db "$out/$name.db" --out "$out/$name.csv" >"$out/$name.txt" 2>/dev/null &
   local pid=$!
   : >"$out/$name.rss"
   while kill -0 "$pid" 2>/dev/null; do

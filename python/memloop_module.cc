@@ -15,6 +15,7 @@
 #include "memloop/map_info.h"
 #include "memloop/options.h"
 #include "memloop/params.h"
+#include "memloop/realtime.h"
 #include "memloop/result.h"
 
 namespace py = pybind11;
@@ -276,6 +277,12 @@ PYBIND11_MODULE(memloop, m) {
         return rows;
       },
       "Every parameter of the registry: name, default, type, unit, range, description");
+  m.def("set_realtime_priority", &memloop::SetThisThreadsRealTimePriority, py::arg("priority"),
+        "Runs the calling thread, and the detector threads it starts after, under SCHED_FIFO at "
+        "`priority` (1-99; needs root, CAP_SYS_NICE or ulimit -r): call before making the "
+        "Detector. Raises memloop.Error when refused");
+  m.def("realtime_priority", &memloop::ThisThreadsRealTimePriority,
+        "The calling thread's real-time priority (0: the usual scheduling)");
   m.def("read_map_options", &memloop::ReadMapOptions, py::arg("db_path"),
         "The options a map was made with (for resume=True)");
   m.def(

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -208,6 +209,8 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
        dir_.File("empty") + ": is a folder; a map is a file"},
       {"run " + Images() + " --db " + missing + "/map.db",
        missing + "/map.db: cannot create the map: the folder " + missing + " does not exist"},
+      {"run " + Images() + " --realtime-priority 100",
+       "real-time priority 100 is out of range (1-99)"},
   };
   for (const Case& c : cases) {
     const Outcome outcome = Memloop(c.arguments);
@@ -513,6 +516,47 @@ TEST_F(CliTest, TimeLimitUnderTheFixedCostIsWarnedWithTheFloor) {
   const Outcome eval = Memloop("eval " + dir_.File("run.csv") + " " +
                                folder_->File("ground_truth_pairs.csv") + " --time-limit-ms 700");
   EXPECT_TRUE(Contains(eval.output, "| fixed cost ")) << eval.output;
+}
+
+// A real-time priority changes when the work runs, never what it finds: the same CSV as without
+// (T_time off). Where the system refuses it, the run is refused saying what it takes, and leaves
+// no file behind.
+TEST_F(CliTest, RealTimePriorityGivesTheSameResults) {
+  const std::string plain = dir_.File("plain.csv"), realtime = dir_.File("realtime.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + plain).exit_code,
+            0);
+  const Outcome run = Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " +
+                              realtime + " --realtime-priority 5");
+  if (run.exit_code != 0) {
+    EXPECT_TRUE(Contains(run.output, "cannot run at real-time priority 5 (SCHED_FIFO)"))
+        << run.output;
+    EXPECT_FALSE(std::filesystem::exists(realtime));
+    GTEST_SKIP() << "this machine refuses SCHED_FIFO: " << run.output;
+  }
+  EXPECT_TRUE(Contains(run.output, "per-image threads at real-time priority 5")) << run.output;
+  EXPECT_EQ(WithoutTimes(ReadFile(realtime)), WithoutTimes(ReadFile(plain)));
+}
+
+// Paced as a camera at 50 Hz: no frame is handed over sooner than 20 ms after the last, none is
+// dropped, and the results are the run's at full speed (T_time off).
+TEST_F(CliTest, PacedFramesComeNoFasterThanTheRate) {
+  const std::string fast = dir_.File("fast.csv"), paced = dir_.File("paced.csv");
+  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + fast).exit_code,
+            0);
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome run =
+      Memloop("run " + Images() + " --set memory.time_limit_ms=0 --pace 50 --out " + paced);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string rows = WithoutTimes(ReadFile(paced));
+  EXPECT_EQ(rows, WithoutTimes(ReadFile(fast)));
+  const auto images = std::count(rows.begin(), rows.end(), '\n') - 1;  // less the header
+  ASSERT_GT(images, 10);
+  EXPECT_GE(seconds, static_cast<double>(images - 1) / 50);
+  const Outcome zero = Memloop("run " + Images() + " --pace 0");
+  EXPECT_NE(zero.exit_code, 0);
+  EXPECT_TRUE(Contains(zero.output, "--pace")) << zero.output;
 }
 
 // Long work is never silent in a log: with stdout not a terminal (here a pipe), a progress line

@@ -12,5 +12,6 @@
 #include "memloop/map_info.h"
 #include "memloop/options.h"
 #include "memloop/params.h"
+#include "memloop/realtime.h"
 #include "memloop/result.h"
 #include "memloop/types.h"

@@ -6,6 +6,7 @@
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
 #include "util/thread_name.h"
+#include "util/thread_priority.h"
 
 namespace memloop {
 namespace {
@@ -527,6 +528,7 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
 
 void LongTermMemory::WriterLoop(LtmOptions options) {
   NameThisThread("writer");
+  StepBelowRealTimePriority();  // behind the per-image threads (thread_priority.h)
   try {
     LtmDatabase database(path_, LtmDatabase::Mode::kAttach);  // reader_ checked the file
     if (options.max_page_count > 0) database.LimitPages(options.max_page_count);

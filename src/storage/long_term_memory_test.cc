@@ -1,13 +1,19 @@
 #include "storage/long_term_memory.h"
 
+#include <dirent.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fstream>
 #include <functional>
+#include <sstream>
+#include <string>
+#include <thread>
 
 #include "memloop/errors.h"
+#include "memloop/realtime.h"
 #include "small_memory.h"
 #include "temp_dir.h"
 
@@ -15,6 +21,55 @@ namespace memloop {
 namespace {
 
 using testing::MakeLtmLocation;
+
+// The real-time priority (/proc's rt_priority: 0 under SCHED_OTHER) of this process' thread named
+// `name`; -1 if there is none.
+int RealTimePriorityOfThread(const std::string& name) {
+  DIR* tasks = opendir("/proc/self/task");
+  if (tasks == nullptr) return -1;
+  int priority = -1;
+  while (dirent* task = readdir(tasks)) {
+    const std::string folder = std::string("/proc/self/task/") + task->d_name;
+    std::string comm;
+    std::getline(std::ifstream(folder + "/comm"), comm);
+    if (comm != name) continue;
+    std::string stat;
+    std::getline(std::ifstream(folder + "/stat"), stat);
+    std::istringstream fields(stat.substr(stat.rfind(')') + 2));  // from field 3 on
+    std::string field;
+    for (int k = 3; k <= 40 && fields >> field; ++k) {
+      if (k == 40) priority = std::stoi(field);
+    }
+  }
+  closedir(tasks);
+  return priority;
+}
+
+// Under a real-time caller (memloop/realtime.h) the writer steps below its priority: it must not
+// take a core from the per-image threads, nor wait behind other programs.
+TEST(LongTermMemoryTest, WriterStepsBelowTheCallersRealTimePriority) {
+#ifndef __linux__
+  GTEST_SKIP() << "real-time priority: Linux only";
+#endif
+  testing::TempDir dir;
+  bool allowed = false;
+  int writer_priority = -1;
+  std::thread caller([&] {
+    try {
+      SetThisThreadsRealTimePriority(3);
+    } catch (const Error&) {
+      return;
+    }
+    allowed = true;
+    LongTermMemory ltm(dir.File("map.db"));
+    ltm.Store(MakeLtmLocation(5, {1, 2}));
+    ltm.Flush();  // the writer has run
+    writer_priority = RealTimePriorityOfThread("memloop-writer");
+  });
+  caller.join();
+  if (!allowed) GTEST_SKIP() << "this process may not use SCHED_FIFO (not root, no CAP_SYS_NICE)";
+  EXPECT_EQ(writer_priority, 2);
+}
 
 TEST(LongTermMemoryTest, ReadsSeeQueuedWritesAndCommittedOnes) {
   testing::TempDir dir;

@@ -7,6 +7,7 @@
 
 #include "memloop/errors.h"
 #include "util/thread_name.h"
+#include "util/thread_priority.h"
 
 namespace memloop {
 
@@ -56,6 +57,7 @@ void AppearanceIndex::Freeze() {
   auto build = [kind = kind_, dim = descriptor_dim_, options = index_options_, rows = vocabulary_,
                 ids = std::move(ids)] {  // shared: frozen, never written
     NameThisThread("vocab");
+    StepBelowRealTimePriority();  // behind the per-image threads (thread_priority.h)
     std::unique_ptr<WordIndex> search = WordIndex::Create(kind, dim, options);
     search->Add(ids, rows);
     return search;

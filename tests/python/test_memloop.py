@@ -2,6 +2,7 @@
 import csv
 import os
 import subprocess
+import threading
 
 import cv2
 import numpy as np
@@ -153,6 +154,29 @@ def test_errors_carry_the_messages(tmp_path):
             detector.process(np.zeros((8, 8), dtype=np.float32), 0)
         with pytest.raises(memloop.InputError, match="H x W"):
             detector.process(np.zeros((8, 8, 4), dtype=np.uint8), 0)
+
+
+def test_realtime_priority_on_the_calling_thread():
+    with pytest.raises(memloop.Error, match="real-time priority 100 is out of range"):
+        memloop.set_realtime_priority(100)
+    seen = {}
+
+    def on_its_own_thread():  # the pytest thread keeps its scheduling
+        try:
+            memloop.set_realtime_priority(4)
+        except memloop.Error as error:
+            seen["refused"] = str(error)
+            return
+        seen["priority"] = memloop.realtime_priority()
+
+    thread = threading.Thread(target=on_its_own_thread)
+    thread.start()
+    thread.join()
+    assert memloop.realtime_priority() == 0
+    if "refused" in seen:
+        assert "cannot run at real-time priority 4 (SCHED_FIFO)" in seen["refused"]
+        pytest.skip("this machine refuses SCHED_FIFO: " + seen["refused"])
+    assert seen["priority"] == 4
 
 
 def test_example_script_runs(route, tmp_path):

@@ -26,5 +26,9 @@ Options WithSettings(Options options, const std::string& config_path,
 CLI::Option* AddConfigOption(CLI::App& command, std::string* path);
 // --preset NAME on `command`.
 CLI::Option* AddPresetOption(CLI::App& command, std::string* name);
+// --realtime-priority N on `command` (SessionOptions::realtime_priority).
+CLI::Option* AddRealtimePriorityOption(CLI::App& command, int* priority);
+// --pace HZ on `command` (SessionOptions::pace_hz).
+CLI::Option* AddPaceOption(CLI::App& command, double* hz);
 
 }  // namespace memloop::cli

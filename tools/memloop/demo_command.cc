@@ -101,6 +101,8 @@ void AddDemoCommand(CLI::App& app) {
     std::string folder;
     std::string layout = "images";
     PlaceSequenceOptions places;
+    int realtime_priority = 0;
+    double pace_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* demo = app.add_subcommand(
@@ -111,10 +113,15 @@ void AddDemoCommand(CLI::App& app) {
   AddConfigOption(*demo, &arguments->config);
   demo->add_option("--set", arguments->assignments, "Parameter NAME=VALUE")->take_all();
   demo->add_option("--seed", arguments->seed, "Seed of the generated world")->capture_default_str();
+  AddRealtimePriorityOption(*demo, &arguments->realtime_priority);
+  AddPaceOption(*demo, &arguments->pace_hz);
   CLI::Option* demo_places = AddPlaceOptions(*demo, &arguments->places);
   demo->callback([arguments, demo_places] {
     const Options options =
         WithSettings(Preset(arguments->preset), arguments->config, arguments->assignments);
+    SessionOptions session = kScoredSession;
+    session.realtime_priority = arguments->realtime_priority;
+    session.pace_hz = arguments->pace_hz;
     if (demo_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       const PlaceSequence places(arguments->places);
@@ -124,7 +131,7 @@ void AddDemoCommand(CLI::App& app) {
                 << arguments->places.places << " places, " << places.revisits() << " revisits ("
                 << places.revisit_frames() << " images)\n";
       const SessionReport report =
-          RunSession(sequence, options, arguments->database, arguments->out, kScoredSession);
+          RunSession(sequence, options, arguments->database, arguments->out, session);
       PrintScored(places, report);
       ThrowIfInterrupted(report, arguments->database);
       return;
@@ -137,7 +144,7 @@ void AddDemoCommand(CLI::App& app) {
               << "x" << route_options.image_height << ", " << route.GroundTruthPairs().size()
               << " ground-truth loop pairs\n";
     const SessionReport report =
-        RunSession(sequence, options, arguments->database, arguments->out, kScoredSession);
+        RunSession(sequence, options, arguments->database, arguments->out, session);
     PrintScored(route, report);
     ThrowIfInterrupted(report, arguments->database);
   });

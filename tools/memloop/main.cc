@@ -39,6 +39,30 @@ CLI::Option* AddPresetOption(CLI::App& command, std::string* name) {
       "under another light); --set applies on top");
 }
 
+CLI::Option* AddRealtimePriorityOption(CLI::App& command, int* priority) {
+  return command.add_option(
+      "--realtime-priority", *priority,
+      "Run the per-image threads under SCHED_FIFO at this priority (1-99; needs root, "
+      "CAP_SYS_NICE or 'ulimit -r'): other programs then cannot delay an image; background "
+      "threads (LTM writer, forest builds) stay behind. Default: the usual scheduling");
+}
+
+CLI::Option* AddPaceOption(CLI::App& command, double* hz) {
+  return command
+      .add_option("--pace", *hz,
+                  "Hand frames to the detector at most HZ a second, as a camera at that rate (the "
+                  "next one period after the last, or when the detector is done if later; none "
+                  "dropped). Default: as fast as the detector goes")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            char* end = nullptr;
+            const double hz = std::strtod(value.c_str(), &end);
+            return *end == '\0' && hz > 0 ? ""
+                                          : "must be a rate in Hz above 0, not '" + value + "'";
+          },
+          "HZ > 0"));
+}
+
 }  // namespace memloop::cli
 
 int main(int argc, char** argv) {

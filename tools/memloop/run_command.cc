@@ -45,6 +45,8 @@ void AddRunCommand(CLI::App& app) {
     std::string topic;
     int camera = -1;
     double rate_hz = 0;
+    int realtime_priority = 0;
+    double pace_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
   CLI::App* run = app.add_subcommand(
@@ -91,6 +93,8 @@ void AddRunCommand(CLI::App& app) {
   AddConfigOption(*run, &arguments->config);
   run->add_option("--set", arguments->assignments, "Parameter NAME=VALUE (see 'memloop params')")
       ->take_all();
+  AddRealtimePriorityOption(*run, &arguments->realtime_priority);
+  AddPaceOption(*run, &arguments->pace_hz);
   preset->excludes(run->get_option("--resume"));
   preset->excludes(run->get_option("--new-session"));
   run->callback([arguments] {
@@ -126,6 +130,8 @@ void AddRunCommand(CLI::App& app) {
     session.resume = arguments->resume;
     session.new_session = arguments->new_session;
     session.input = arguments->input;
+    session.realtime_priority = arguments->realtime_priority;
+    session.pace_hz = arguments->pace_hz;
     const SessionReport report =
         RunSession(*sequence, options, arguments->database, arguments->out, session);
     std::cout << Summary(report) << "\n";

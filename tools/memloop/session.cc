@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,10 +16,12 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "interrupt.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
+#include "memloop/realtime.h"
 #include "memloop/run_csv.h"
 #include "progress.h"
 
@@ -153,6 +156,15 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     throw ParameterError(session.resume ? "--resume" : "--new-session",
                          "needs the map to extend (--db)");
   }
+  if (session.realtime_priority > 0) {
+    try {
+      SetThisThreadsRealTimePriority(session.realtime_priority);
+    } catch (const Error& error) {
+      throw ParameterError("--realtime-priority", error.what());
+    }
+    std::cout << "per-image threads at real-time priority " << session.realtime_priority
+              << " (SCHED_FIFO)" << std::endl;
+  }
   // Outputs are checked before anything is created or opened for writing: a refused run leaves
   // no file behind and changes none.
   if (!csv_path.empty()) CheckDistinct(csv_path, database_path);
@@ -221,6 +233,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   Progress progress(sequence.size());
   const InterruptWatch interrupt;
   Frame frame;
+  std::optional<std::chrono::steady_clock::time_point> handed;  // the last frame's, when paced
   while (interrupt.signal() == 0 && sequence.Next(&frame)) {
     if (frame.dropped > 0 && report.dropped == 0) {
       progress.Print(
@@ -238,6 +251,14 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     info.index = first_image + frame.index;
     info.name = frame.name;
     info.timestamp = frame.timestamp;
+    if (session.pace_hz > 0) {
+      if (handed) {
+        std::this_thread::sleep_until(
+            *handed + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(1.0 / session.pace_hz)));
+      }
+      handed = std::chrono::steady_clock::now();
+    }
     Result result = detector->Process(frame.image, info);
     if (result.HasLoopClosure()) {
       ++loop_closures;

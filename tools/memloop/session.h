@@ -24,6 +24,8 @@ struct SessionOptions {
   bool print_loop_closures = true;  // a line on stdout per loop closure, as it is found
   bool new_session = false;         // a new session in the map at the database path
   std::string input;                // names the input in errors ("" for a camera)
+  int realtime_priority = 0;        // > 0: the run's per-image threads under SCHED_FIFO at it
+  double pace_hz = 0;               // > 0: frames handed over at most this many a second
 };
 
 // Feeds every frame of `sequence` to a Detector writing its map to `database_path` ("" = a
@@ -33,7 +35,12 @@ struct SessionOptions {
 // image; the input must continue the map's last session (its first and last images' names, when
 // both are known). With `new_session`, the map gets a new session (MapMode::kNewSession) whose
 // images are numbered after the map's. Outputs are checked before any is created. SIGINT/SIGTERM
-// end the run after the current image, with the map closed (see interrupted_by).
+// end the run after the current image, with the map closed (see interrupted_by). With
+// `realtime_priority`, the calling thread is put under SCHED_FIFO before anything is created (a
+// refusal is an Error), and the detector's threads inherit it (util/thread_priority.h). With
+// `pace_hz`, a frame is handed to the detector one period after the previous one was, or once
+// the detector is done with that one if later: a camera at that rate, the detector idle between
+// its images, and no frame dropped.
 SessionReport RunSession(ImageSequence& sequence, const Options& options,
                          const std::string& database_path, const std::string& csv_path,
                          const SessionOptions& session = {});
