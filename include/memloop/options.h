@@ -123,6 +123,11 @@ struct MemoryOptions {
   int signature_within_time = 1;
   // Of an image's features, at least this share (the strongest) is quantized, however late.
   double signature_min_share = 0.5;
+  // 1 (with signature_within_time and T_time on): after an iteration that deferred a retrieval
+  // for lack of time, the next image's quantization also stops early enough for the deferred
+  // locations (and the transfer after them) to fit under T_time (memloop, issue 37: under a tight
+  // T_time the place recognized came back one image late, after the robot had moved on).
+  int signature_room_for_retrieval = 1;
   // With signature_within_time: when an image's features would not all be quantized by the time
   // target, their search first visits fewer leaves than dictionary.kd_checks, in proportion to
   // the time left, down to this many; only then are features dropped. 0: always the

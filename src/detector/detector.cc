@@ -501,6 +501,11 @@ class Detector::Impl {
       if (appearance_) appearance_->Leave(id);
     }
     result.retrieved_ids = retrieved;
+    // Room in the next image for what waited (memory.signature_room_for_retrieval): a place
+    // recognized now is still there then, not two images on.
+    const int waiting = std::min(result.retrievals_deferred, options_.memory.max_retrieved);
+    signature_budget_.LeaveRoom(
+        waiting > 0 ? waiting * retrieval_.ExpectedLocationMs() + transfer_ms : 0);
     retrieved_immune_.Retrieved(retrieved, counters_.images_processed);
     retrieved_kept_last_.Retrieved(retrieved, counters_.images_processed);
   }

@@ -117,6 +117,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("true, with T_time on: an image's features are quantized strongest first until the iteration, with what its later steps are expected to take, would pass the time target; the weaker ones left are dropped (false = every feature whatever the time, the paper)"),
     Param("memory.signature_min_share", MEMLOOP_FIELD(memory.signature_min_share)).Range(0, 1)
         .Help("With memory.signature_within_time: of an image's features, at least this share (the strongest) is quantized however late the iteration"),
+    Param("memory.signature_room_for_retrieval", MEMLOOP_FIELD(memory.signature_room_for_retrieval)).Flag()
+        .Help("With memory.signature_within_time: after an iteration that deferred a retrieval for lack of time, the next image's features are quantized only while the deferred locations and the transfer after them still fit under T_time (fewer features, at least memory.signature_min_share), so that the place recognized comes back before the robot has moved on (false = the time target alone)"),
     Param("memory.signature_min_checks", MEMLOOP_FIELD(memory.signature_min_checks)).Unit("leaves")
         .Range(0, 100000).Help("With memory.signature_within_time: when an image's features would not all be quantized by the time target, their kd-forest search visits fewer leaves than dictionary.kd_checks (in proportion to the time left), down to this many, before any feature is dropped (0 = always dictionary.kd_checks)"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")

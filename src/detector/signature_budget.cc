@@ -19,6 +19,8 @@ SignatureBudget::SignatureBudget(const MemoryOptions& memory, int search_threads
       min_checks_(std::min(memory.signature_min_checks, kd_checks_)) {
   if (memory.signature_within_time && memory.time_limit_ms > 0) {
     target_ms_ = memory.time_target * memory.time_limit_ms;
+    limit_ms_ = memory.time_limit_ms;
+    room_for_retrieval_ = memory.signature_room_for_retrieval != 0;
   }
 }
 

@@ -13,6 +13,7 @@
 // feature is, visiting dictionary.kd_checks leaves.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 
@@ -64,9 +65,16 @@ class SignatureBudget {
   // the rest of the signature step, rehearsal, the filter and selection) took `ms`.
   void RecordAfterQuantization(double ms);
 
-  // The last feature may be taken by then: the time target minus what the steps after the
-  // quantization are expected to take.
-  double DeadlineMs() const { return target_ms_ - after_.expected_ms(); }
+  // The next image's quantization also leaves `ms` before T_time after the steps that follow it
+  // (memory.signature_room_for_retrieval: deferred retrievals and the transfer after them); 0 =
+  // the time target alone. Ignored when disabled.
+  void LeaveRoom(double ms) { room_ms_ = room_for_retrieval_ ? ms : 0; }
+
+  // The last feature may be taken by then: the time target, or T_time less the room asked for
+  // when that is earlier, minus what the steps after the quantization are expected to take.
+  double DeadlineMs() const {
+    return std::min(target_ms_, limit_ms_ - room_ms_) - after_.expected_ms();
+  }
   // One chunk's expected time on one thread.
   double ChunkMs() const { return row_.expected_ms() * WordIndex::kSearchChunk; }
 
@@ -78,6 +86,9 @@ class SignatureBudget {
   std::function<double()> elapsed_ms_;
   double searched_at_ms_ = 0;  // on the iteration's clock: the end of the last search
   double target_ms_ = 0;       // 0: disabled
+  double limit_ms_ = 0;        // T_time
+  double room_ms_ = 0;         // LeaveRoom
+  bool room_for_retrieval_ = false;
   double min_share_ = 1;
   int search_threads_ = 1;
   int kd_checks_ = 0;

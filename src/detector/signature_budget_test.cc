@@ -51,6 +51,26 @@ TEST(SignatureBudgetTest, TheDeadlineLeavesRoomForTheStepsAfterTheSearch) {
 
 // A search slower than the last ones judges by its own chunks: 48 rows in 3.5 ms on two threads is
 // 3.5 x 2 x 16 / 48 = 2.33 ms a chunk, more than the 1.28 expected from the last searches.
+// A deferred retrieval asks the next image for room (memory.signature_room_for_retrieval): the
+// deadline is then T_time less the room when that is before the target. T_time 20, target 15;
+// steps after the search expected 4 ms (as above).
+TEST(SignatureBudgetTest, RoomForADeferredRetrievalBringsTheDeadlineForward) {
+  SignatureBudget budget(TimeLimit(20), 2);
+  budget.RecordAfterQuantization(2);
+  budget.RecordQuantization(4, 200);
+  budget.LeaveRoom(3);                        // 20 - 3 = 17, after the target: no change
+  EXPECT_DOUBLE_EQ(budget.DeadlineMs(), 11);  // 15 - 4
+  budget.LeaveRoom(9);                        // 20 - 9 = 11, before the target
+  EXPECT_DOUBLE_EQ(budget.DeadlineMs(), 7);   // 11 - 4
+  budget.LeaveRoom(0);
+  EXPECT_DOUBLE_EQ(budget.DeadlineMs(), 11);
+  MemoryOptions off = TimeLimit(20);
+  off.signature_room_for_retrieval = 0;
+  SignatureBudget without(off, 2);
+  without.LeaveRoom(9);
+  EXPECT_DOUBLE_EQ(without.DeadlineMs(), 15);
+}
+
 TEST(SignatureBudgetTest, ASlowSearchJudgesByItsOwnChunks) {
   SignatureBudget budget(TimeLimit(20), 2);
   budget.RecordAfterQuantization(2);
