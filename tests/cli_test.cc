@@ -211,6 +211,8 @@ TEST_F(CliTest, BadInputsFailWithOneClearLine) {
        missing + "/map.db: cannot create the map: the folder " + missing + " does not exist"},
       {"run " + Images() + " --realtime-priority 100",
        "real-time priority 100 is out of range (1-99)"},
+      {"run " + Images() + " --realtime-priority -3",
+       "real-time priority -3 is out of range (1-99)"},
   };
   for (const Case& c : cases) {
     const Outcome outcome = Memloop(c.arguments);

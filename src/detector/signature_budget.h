@@ -10,7 +10,9 @@
 // proportion to the time left, down to memory.signature_min_checks: a feature searched coarsely
 // still votes for its place, a dropped one does not. At least memory.signature_min_share of the
 // features is quantized, however late. With T_time off, or the parameter off (the paper), every
-// feature is, visiting dictionary.kd_checks leaves.
+// feature is, visiting dictionary.kd_checks leaves. After an iteration that deferred a retrieval,
+// the next image's quantization also leaves the deferred locations room before T_time
+// (LeaveRoom, memory.signature_room_for_retrieval).
 #pragma once
 
 #include <algorithm>

@@ -49,8 +49,6 @@ TEST(SignatureBudgetTest, TheDeadlineLeavesRoomForTheStepsAfterTheSearch) {
   EXPECT_TRUE(gate(96));    // under the minimum, 50% of 200
 }
 
-// A search slower than the last ones judges by its own chunks: 48 rows in 3.5 ms on two threads is
-// 3.5 x 2 x 16 / 48 = 2.33 ms a chunk, more than the 1.28 expected from the last searches.
 // A deferred retrieval asks the next image for room (memory.signature_room_for_retrieval): the
 // deadline is then T_time less the room when that is before the target. T_time 20, target 15;
 // steps after the search expected 4 ms (as above).
@@ -71,6 +69,8 @@ TEST(SignatureBudgetTest, RoomForADeferredRetrievalBringsTheDeadlineForward) {
   EXPECT_DOUBLE_EQ(without.DeadlineMs(), 15);
 }
 
+// A search slower than the last ones judges by its own chunks: 48 rows in 3.5 ms on two threads is
+// 3.5 x 2 x 16 / 48 = 2.33 ms a chunk, more than the 1.28 expected from the last searches.
 TEST(SignatureBudgetTest, ASlowSearchJudgesByItsOwnChunks) {
   SignatureBudget budget(TimeLimit(20), 2);
   budget.RecordAfterQuantization(2);

@@ -156,7 +156,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     throw ParameterError(session.resume ? "--resume" : "--new-session",
                          "needs the map to extend (--db)");
   }
-  if (session.realtime_priority > 0) {
+  if (session.realtime_priority != 0) {  // 0: the usual scheduling; out of range is refused
     try {
       SetThisThreadsRealTimePriority(session.realtime_priority);
     } catch (const Error& error) {

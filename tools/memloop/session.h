@@ -24,7 +24,7 @@ struct SessionOptions {
   bool print_loop_closures = true;  // a line on stdout per loop closure, as it is found
   bool new_session = false;         // a new session in the map at the database path
   std::string input;                // names the input in errors ("" for a camera)
-  int realtime_priority = 0;        // > 0: the run's per-image threads under SCHED_FIFO at it
+  int realtime_priority = 0;        // 1-99: the per-image threads under SCHED_FIFO at it (0: not)
   double pace_hz = 0;               // > 0: frames handed over at most this many a second
 };
 
