@@ -27,12 +27,35 @@ echo
 echo "| data set | preset | features | WM budget | recall @100% P | lenient | T_loop at it | precision @T_loop | recall @T_loop | false pos. | median ms | max ms | max WM |"
 echo "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
 
+# The Gardens Point sets are two walks (their READMEs: images 0001-0100, then 0101-0200), mapped
+# as a robot maps two walks: the first, then the second as a new session of its map (run
+# --new-session). The whole-image channel weighs an earlier session's places only
+# (filter.whole_image_scope).
+declare -A second_walk_from=([gp_walk_a]=101 [gp_daynight_a]=101)
+
+# Folders $out/walk1 and $out/walk2 of links to the images of data set $1 before and from image $2.
+split_walks() {
+  rm -rf "$out/walk1" "$out/walk2"
+  mkdir "$out/walk1" "$out/walk2"
+  local n=0 file
+  for file in $(ls "$datasets/$1/images" | sort); do
+    n=$((n + 1))
+    ln -s "$(realpath "$datasets/$1/images/$file")" "$out/walk$([ $n -lt "$2" ] && echo 1 || echo 2)/$file"
+  done
+}
+
 row() {  # dataset preset features budget
   local name=$1 preset=$2 feature=$3 budget=$4 csv="$out/run.csv"
-  "$build/memloop" run "$datasets/$name/images" --preset "$preset" --set memory.time_limit_ms=0 \
-    --set features.type="$feature" --set memory.max_wm_locations="$budget" \
-    ${sets[@]+--set "${sets[@]}"} \
-    --db "$out/map.db" --out "$csv" >/dev/null
+  local run=("$build/memloop" run --set memory.time_limit_ms=0 --set features.type="$feature"
+    --set memory.max_wm_locations="$budget" ${sets[@]+--set "${sets[@]}"} --db "$out/map.db")
+  if [ -n "${second_walk_from[$name]:-}" ]; then
+    split_walks "$name" "${second_walk_from[$name]}"
+    "${run[@]}" "$out/walk1" --preset "$preset" --out "$out/walk1.csv" >/dev/null
+    "${run[@]}" "$out/walk2" --new-session --out "$out/walk2.csv" >/dev/null
+    { cat "$out/walk1.csv"; tail -n +2 "$out/walk2.csv"; } >"$csv"
+  else
+    "${run[@]}" "$datasets/$name/images" --preset "$preset" --out "$csv" >/dev/null
+  fi
   rm -f "$out"/map.db*
   "$build/memloop" eval "$csv" "$datasets/$name/ground_truth.bmp" --json >"$out/eval.json"
   "$build/memloop" eval "$csv" "$datasets/$name/ground_truth.bmp" --json --ignored-as-true \

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/loop_closure_views.h"
@@ -74,18 +75,24 @@ struct DataSetRun {
 };
 
 // Runs every image of `name` (T_time off: the same verdict on any machine), writes the run's CSV
-// and scores it as `memloop eval` does, against its ground_truth.bmp.
-DataSetRun RunDataSet(const std::string& name, Options options) {
+// and scores it as `memloop eval` does, against its ground_truth.bmp. From image
+// `second_session_from` on (if any), the images are a new session of the map, as
+// bench/real_data.sh maps the second walk of the Gardens Point sets.
+DataSetRun RunDataSet(const std::string& name, Options options, int second_session_from = -1) {
   const std::string folder = Datasets() + "/" + name;
   options.memory.time_limit_ms = 0;
   testing::TempDir dir;
   {
-    Detector detector(options, dir.File("map.db"));
+    auto detector = std::make_unique<Detector>(options, dir.File("map.db"));
     RunCsvWriter csv(dir.File("run.csv"));
     auto sequence = ImageSequence::Open(folder + "/images");
     Frame frame;
     while (sequence->Next(&frame)) {
-      if (frame.error.empty()) csv.Write(frame.name, detector.Process(frame.image, frame.index));
+      if (frame.index == second_session_from) {
+        detector.reset();
+        detector = std::make_unique<Detector>(options, dir.File("map.db"), MapMode::kNewSession);
+      }
+      if (frame.error.empty()) csv.Write(frame.name, detector->Process(frame.image, frame.index));
     }
     csv.Close();
   }
@@ -227,18 +234,28 @@ TEST(RealDataTest, HandHeldPresetFindsRolledRevisitsAndRefusesRolledApartViews) 
             << tum.evaluation.recall_at_full_precision << "\n";
 }
 
-// Issue 34: `--preset day-night` on the route walked by day then by night, where words alone
-// find nothing (measured 62% at 100% precision, 55% at T_loop, no false positive).
+// Issue 34: `--preset day-night` on the route walked by day, then by night as a new session of
+// the map, where words alone find nothing (measured 57% at 100% precision, 55% at T_loop, no false
+// positive). On the route walked twice by day, from two sides, the channel stays out where the
+// words recognize the place (filter.whole_image_words_first): measured 60% / 59% (the defaults:
+// 89% / 63%), no false positive.
 TEST(RealDataTest, DayNightPresetFindsNightRevisitsOfDayPlaces) {
   if (!std::filesystem::exists(Datasets() + "/gp_daynight_a/images")) {
     GTEST_SKIP() << Datasets() << "/gp_daynight_a is absent (it ships beside the project)";
   }
-  const DataSetRun run = RunDataSet("gp_daynight_a", Options::DayNight());
-  EXPECT_GE(run.evaluation.recall_at_full_precision, 0.55);
-  EXPECT_GE(run.evaluation.accepted.Recall(), 0.5);
+  constexpr int kSecondWalk = 100;  // each set's README: images 0101-0200
+  const DataSetRun run = RunDataSet("gp_daynight_a", Options::DayNight(), kSecondWalk);
+  EXPECT_GE(run.evaluation.recall_at_full_precision, 0.5);
+  EXPECT_GE(run.evaluation.accepted.Recall(), 0.45);
   EXPECT_EQ(run.evaluation.accepted.false_positives, 0);
   std::cout << "day-night: gp_daynight_a " << run.evaluation.recall_at_full_precision
             << " at 100% precision, " << run.evaluation.accepted.Recall() << " at T_loop\n";
+  if (!std::filesystem::exists(Datasets() + "/gp_walk_a/images")) return;
+  const DataSetRun day = RunDataSet("gp_walk_a", Options::DayNight(), kSecondWalk);
+  EXPECT_GE(day.evaluation.recall_at_full_precision, 0.5);
+  EXPECT_EQ(day.evaluation.accepted.false_positives, 0);
+  std::cout << "day-night: gp_walk_a " << day.evaluation.recall_at_full_precision
+            << " at 100% precision, " << day.evaluation.accepted.Recall() << " at T_loop\n";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -20,14 +21,21 @@ struct FramesRun {
   std::vector<Detection> detections;  // the same, for memloop::Evaluate
 };
 
-inline FramesRun RunFrames(Options options, int count, const std::function<cv::Mat(int)>& frame) {
+// From image `new_session_from` on (if any), the frames are a new session of the map
+// (MapMode::kNewSession), as `memloop run --new-session` adds them.
+inline FramesRun RunFrames(Options options, int count, const std::function<cv::Mat(int)>& frame,
+                           int new_session_from = -1) {
   options.memory.time_limit_ms = 0;
   TempDir dir;
-  Detector detector(options, dir.File("map.db"));
+  auto detector = std::make_unique<Detector>(options, dir.File("map.db"));
   FramesRun run;
   for (int index = 0; index < count; ++index) {
-    const Result result = detector.Process(frame(index), index);
-    for (const std::string& problem : detector.CheckConsistency()) {
+    if (index == new_session_from) {
+      detector.reset();
+      detector = std::make_unique<Detector>(options, dir.File("map.db"), MapMode::kNewSession);
+    }
+    const Result result = detector->Process(frame(index), index);
+    for (const std::string& problem : detector->CheckConsistency()) {
       ADD_FAILURE() << "after image " << index << ": " << problem;
     }
     if (!result.HasLoopClosure()) continue;

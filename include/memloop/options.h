@@ -314,6 +314,15 @@ struct FilterOptions {
   // least whole_image_support_z) lay within neighbour_range links of it in each of the last this
   // many images, not all one location (whole_image_agreement.h; 0: no check).
   int whole_image_agreement = 3;
+  // Which WM locations the channel weighs: "earlier_sessions", those first seen in an earlier
+  // session of the map (MapMode::kNewSession), or "all". Within one session the light is the
+  // same and the words are the better judge: a whole image cannot tell look-alike places apart.
+  std::string whole_image_scope = "earlier_sessions";
+  // The channel stays out of an image whose words' eq. 3 value (before the channel's factor)
+  // reaches this for a location in its scope: the words recognize the place, and a whole image,
+  // which look-alike places share, would only pull the filter away (0: the channel weighs every
+  // image).
+  double whole_image_words_first = 3;
 };
 
 // Geometric verification of the highest hypothesis (epipolar_check.h): a loop closure is accepted

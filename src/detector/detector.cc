@@ -339,10 +339,17 @@ class Detector::Impl {
     Likelihood likelihood = ComputeLikelihood(scores, options_.filter.min_sigma_ratio,
                                               options_.filter.no_signal_virtual_place);
     if (options_.features.whole_image) {  // the second channel (whole_image_likelihood.h)
-      WeighWholeImage(z_t.whole_image, memory_, options_.filter, likelihood);
+      WeighWholeImage(z_t.whole_image, memory_, options_.filter, WholeImageBefore(), likelihood);
       agreement_.Observe(likelihood, options_.filter.whole_image_support_z);
     }
     return likelihood;
+  }
+
+  // filter.whole_image_scope: the channel weighs the locations first seen before this session's
+  // first image, or all; localizing, the whole map is earlier than the images.
+  ImageIndex WholeImageBefore() const {
+    if (options_.filter.whole_image_scope == "all" || localizing_) return kNoImage;
+    return session_first_image();
   }
 
   // The neighbourhoods stay valid until the next image's UpdateFilter.

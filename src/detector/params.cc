@@ -200,6 +200,10 @@ std::vector<Parameter> MakeRegistry() {
         .Help("With features.whole_image: a hypothesis standing out of WM by this z in the channel is supported by the image without filter.require_support's and filter.min_shared_words' words, which night images lack (0 = never)"),
     Param("filter.whole_image_agreement", MEMLOOP_FIELD(filter.whole_image_agreement)).Unit("images").Range(0, 1000)
         .Help("With features.whole_image: accept a loop closure only when the channel's best WM location (z >= filter.whole_image_support_z) lay within filter.neighbour_range links of it in each of the last this many images, not all one location (0 = no check)"),
+    Param("filter.whole_image_scope", MEMLOOP_FIELD(filter.whole_image_scope)).Choices({"earlier_sessions", "all"})
+        .Help("With features.whole_image: the WM locations the channel weighs, those first seen in an earlier session of the map (run --new-session; within a session the light is the same, and the words judge) or all"),
+    Param("filter.whole_image_words_first", MEMLOOP_FIELD(filter.whole_image_words_first)).Range(0, 1000)
+        .Symbol("eq. 3").Help("With features.whole_image: the channel stays out of an image whose words give a location in its scope an eq. 3 value of at least this: the words recognize the place (0 = the channel weighs every image)"),
     Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
         .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
@@ -433,7 +437,8 @@ std::string ParametersMarkdown() {
          "gives the paper's (Sec. IV; where its text is silent, its 2011 code's), and "
          "docs/design.md lists each departure; `--preset hand-held` is for a camera that rolls "
          "about its axis (docs/design.md, \"Camera roll\"), `--preset day-night` for places "
-         "revisited under another light (docs/design.md, \"Whole-image channel\"). Parameters "
+         "revisited under another light, in a later session of the map (docs/design.md, "
+         "\"Whole-image channel\"). Parameters "
          "marked "
          "*map* define what a word is and how words are found: a map keeps them, and "
          "`memloop run --resume` refuses other values.\n\n"

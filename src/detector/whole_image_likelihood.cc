@@ -1,5 +1,6 @@
 #include "detector/whole_image_likelihood.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -7,12 +8,21 @@
 
 namespace memloop {
 
-IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory) {
+bool SeenBefore(const Location& location, ImageIndex before) {
+  if (before == kNoImage) return true;
+  const auto first = std::min_element(location.images.begin(), location.images.end());
+  return first != location.images.end() && *first < before;
+}
+
+IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
+                              ImageIndex before) {
   IdMap<double> scores;
   scores.reserve(memory.working_memory().size());
   for (LocationId id : memory.working_memory()) {
+    const Location& location = memory.at(id);
+    if (!SeenBefore(location, before)) continue;
     scores.emplace_hint(scores.end(), id,
-                        WholeImageSimilarity(descriptor, memory.at(id).signature.whole_image));
+                        WholeImageSimilarity(descriptor, location.signature.whole_image));
   }
   return scores;
 }
@@ -59,11 +69,21 @@ double WordLikelihood(const Likelihood& likelihood, LocationId id) {
                                                        : value->second / factor->second;
 }
 
+bool WordsRecognize(const Likelihood& likelihood, const Memory& memory, ImageIndex before,
+                    double min_value) {
+  if (min_value <= 0) return false;
+  return std::any_of(likelihood.values.begin(), likelihood.values.end(), [&](const auto& entry) {
+    return WordLikelihood(likelihood, entry.first) >= min_value &&
+           SeenBefore(memory.at(entry.first), before);
+  });
+}
+
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
-                     const FilterOptions& options, Likelihood& likelihood) {
+                     const FilterOptions& options, ImageIndex before, Likelihood& likelihood) {
+  if (WordsRecognize(likelihood, memory, before, options.whole_image_words_first)) return;
   MultiplyLikelihood(
-      ComputeWholeImageLikelihood(ScoreWholeImage(descriptor, memory), options.whole_image_gain,
-                                  options.whole_image_min_z),
+      ComputeWholeImageLikelihood(ScoreWholeImage(descriptor, memory, before),
+                                  options.whole_image_gain, options.whole_image_min_z),
       likelihood);
 }
 

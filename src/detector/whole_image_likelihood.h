@@ -19,8 +19,19 @@ struct WholeImageLikelihood {
   double stddev = 0;
 };
 
-// Every WM location's score (0 for one without a descriptor).
-IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory);
+// Whether `location` was first seen before image `before` (kNoImage: every location was).
+bool SeenBefore(const Location& location, ImageIndex before);
+
+// The score of every WM location first seen before image `before` (0 for one without a
+// descriptor). The others are not weighed by the channel.
+IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
+                              ImageIndex before = kNoImage);
+
+// Whether the words' eq. 3 value (before the channel's factor) reaches `min_value` for a WM
+// location first seen before image `before`: the words recognize the place, and the channel
+// stays out of the image (filter.whole_image_words_first; false with min_value 0).
+bool WordsRecognize(const Likelihood& likelihood, const Memory& memory, ImageIndex before,
+                    double min_value);
 
 // z_j = (s_j - mean) / stddev over WM. A location is likelier the further its z passes min_z:
 // exp(gain * (z_j - min_z)), else 1. Whole-image scores are dense (every image shares gradients
@@ -41,9 +52,11 @@ void MultiplyLikelihood(WholeImageLikelihood channel, Likelihood& likelihood);
 // when it has no value).
 double WordLikelihood(const Likelihood& likelihood, LocationId id);
 
-// The three above with filter.whole_image_gain and whole_image_min_z.
+// The three above with filter.whole_image_gain and whole_image_min_z, over the WM locations first
+// seen before image `before` (kNoImage: all), unless the words recognize one of them
+// (WordsRecognize with filter.whole_image_words_first): then `likelihood` is left as it was.
 void WeighWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
-                     const FilterOptions& options, Likelihood& likelihood);
+                     const FilterOptions& options, ImageIndex before, Likelihood& likelihood);
 
 // filter.whole_image_support_z: a hypothesis whose image stands out of WM by at least `min_z`
 // in the channel is supported by the image even when it shares few words with it (by night,

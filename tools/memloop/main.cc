@@ -36,7 +36,7 @@ CLI::Option* AddPresetOption(CLI::App& command, std::string* name) {
       "--preset", *name,
       "Starting values: default (memloop's measured best), paper2011 (the paper's mechanisms as "
       "written), hand-held (a camera that rolls about its axis) or day-night (places revisited "
-      "under another light); --set applies on top");
+      "under another light, in a --new-session of the map); --set applies on top");
 }
 
 CLI::Option* AddRealtimePriorityOption(CLI::App& command, int* priority) {
