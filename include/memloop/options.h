@@ -211,6 +211,11 @@ struct MemoryOptions {
   // its twin. At most 31 (the marks RetrievalStaging keeps). -1: it waits until its words are
   // searched (places ahead excepted: retrieval_ahead_unsearched).
   int retrieval_recent_twins = 3;
+  // Under T_time, with retrieval_over_iterations: a location asked for when no retrieval fits any
+  // more in the iteration is staged all the same (its rows read ahead), so that the next extraction
+  // searches its words and the next iterations carry it on. 0: it is asked for again only if a
+  // later image asks (the place recognized again, or the hypothesis on it).
+  int retrieval_stage_deferred = 1;
   // 1: retrieval by appearance (memloop): the LTM location that looks most like the image
   // (appearance_index.h) comes back into WM with its neighbours, at most max_retrieved, when its
   // score stands out of all LTM's by appearance_min_z standard deviations, so that a place whose

@@ -145,6 +145,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("true, under T_time with memory.retrieval_over_iterations: neighbours that lie ahead of the place asked for (the way the robot goes along the old route) are asked for first, and their words the iteration has no room to search are not searched (no twins yet) but compared at retrieval with the words that joined since (false = every staged word searched, nearest then oldest first)"),
     Param("memory.retrieval_recent_twins", MEMLOOP_FIELD(memory.retrieval_recent_twins)).Unit("images")
         .Range(-1, 31).Help("Under T_time, with memory.retrieval_over_iterations: a location asked for whose words the iteration has no room to search comes back at once, its words compared only with the words that joined since the retrieval step this many images before (its twins, made by the images that recognize it), not searched in the kd-forest (-1 = it waits until its words are searched)"),
+    Param("memory.retrieval_stage_deferred", MEMLOOP_FIELD(memory.retrieval_stage_deferred)).Flag()
+        .Help("true, under T_time with memory.retrieval_over_iterations: a location asked for when no retrieval fits any more is staged all the same, so that the next extraction searches its words and the next iterations carry it on (false = asked for again only if a later image asks)"),
     Param("memory.retrieval_kd_checks", MEMLOOP_FIELD(memory.retrieval_kd_checks)).Unit("leaves")
         .Range(0, 100000).Help("Under T_time, with memory.retrieval_over_iterations: leaves the kd-forest search visits when re-matching a staged location's words that left the dictionary (0 = dictionary.kd_checks, as with T_time off)"),
     Param("memory.checkpoint_interval", MEMLOOP_FIELD(memory.checkpoint_interval)).Unit("images")

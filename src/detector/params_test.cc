@@ -75,7 +75,8 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
           "memory.signature_within_time", "memory.retrieval_over_iterations",
           "memory.retrieval_kd_checks", "memory.max_dictionary_words", "memory.retrieval_min_value",
           "memory.retrieved_kept_last_iterations", "memory.retrieval_strong_value",
-          "memory.signature_room_for_retrieval", "features.min_image_side",
+          "memory.signature_room_for_retrieval", "memory.retrieval_stage_deferred",
+          "features.min_image_side",
           // The paper's 2011 code where its text is silent; memloop's measured choices.
           "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees",
           "dictionary.nndr_ratio", "dictionary.kd_checks", "memory.rehearsal_most_similar",

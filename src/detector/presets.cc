@@ -28,6 +28,7 @@ Options Options::Paper2011() {
   options.memory.signature_within_time = 0;
   options.memory.signature_room_for_retrieval = 0;
   options.memory.retrieval_over_iterations = 0;
+  options.memory.retrieval_stage_deferred = 0;
   options.memory.retrieval_kd_checks = 0;  // the dictionary's, as the 2011 code
   options.memory.retrieval_read_ahead = 0;
   options.memory.retrieval_min_value = 0;

@@ -105,6 +105,22 @@ std::optional<PrefetchedRows> ReadAhead(LocationId id, LtmReadAhead& read_ahead,
   return rows;
 }
 
+// A location asked for when no retrieval fits (RetrievalTime::stage_deferred): staged, without
+// waiting for its rows, and wanted, so that it is readied beside the next extraction and carried
+// on. Without this, the neighbour ahead of a place recognized by appearance, deferred in the image
+// that brought the place back, was asked for again only if the next image recognized it too, and
+// the revisit was lost when it did not (a z under AppearanceMinZ).
+void StageDeferred(LocationId id, const RetrievalTime& time) {
+  if (!time.stage_deferred || time.read_ahead == nullptr || time.staging == nullptr) return;
+  RetrievalStaging::Staged* staged = time.staging->Find(id);
+  if (staged == nullptr) {
+    std::optional<PrefetchedRows> rows = time.read_ahead->WaitRead(id, 0);
+    if (!rows) return;
+    staged = &time.staging->Start(id, std::move(*rows));
+  }
+  time.staging->Want(*staged, time.priority);
+}
+
 // One location of LTM: retrieved into `memory` (or deferred, or staged for later), `outcome`
 // counting it. `wanted`: this iteration asks for it (staged, it is then searched first beside the
 // next extraction); otherwise it is only carried on (ContinueStaged).
@@ -112,6 +128,7 @@ void RetrieveOne(LocationId id, Memory& memory, LongTermMemory& ltm, const Retri
                  bool wanted, bool ahead, RetrievalOutcome& outcome) {
   if (!time.location.Fits()) {
     ++outcome.deferred;
+    if (wanted) StageDeferred(id, time);
     return;
   }
   LtmReadAhead* read_ahead = time.read_ahead;

@@ -45,6 +45,10 @@ struct RetrievalTime {
   // iteration has no room to search comes back now, its words compared only with those that
   // joined since the retrieval step this many images before (RetrievalStaging::JoinMarkBefore).
   int recent_twins = -1;
+  // Staged, memory.retrieval_stage_deferred: a location asked for when no retrieval fits any more
+  // is staged all the same when its rows were read ahead, so that the next extraction searches its
+  // words and the next iterations carry it on.
+  bool stage_deferred = false;
 };
 
 // Brings back at most `max_retrieved` LTM locations within `range` links of `highest` (nearest

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <thread>
 
 #include "detector/retrieval.h"
 #include "small_map.h"
@@ -153,6 +154,40 @@ TEST_F(RetrievalStagingTest, ALocationWithoutRoomStaysStagedForALaterIteration) 
   EXPECT_TRUE(ltm_->Contains(ids_[2]));
   staging_.StartIteration();
   EXPECT_EQ(RetrieveStaged(ids_[2]).retrieved, (std::vector<LocationId>{ids_[2]}));
+}
+
+// memory.retrieval_stage_deferred: L3 is asked for when no retrieval fits any more (the iteration
+// at 10 ms of a 5 ms deadline). Its rows read ahead, it is staged and wanted all the same, and the
+// next iteration carries it on (ContinueStaged) with time to spare. Off, it is not staged, and
+// nothing is carried on.
+TEST_F(RetrievalStagingTest, ALocationAskedForWithoutTimeIsStagedAndCarriedOn) {
+  for (const bool stage_deferred : {false, true}) {  // off first: it leaves L3 in LTM
+    SCOPED_TRACE(stage_deferred ? "staged when deferred" : "not staged");
+    RetrievalStaging staging;
+    LtmReadAhead read_ahead(*ltm_);
+    read_ahead.Request({ids_[2]});
+    while (read_ahead.rows_read() < 1) std::this_thread::yield();  // read, as a second image finds
+    staging.StartIteration();
+    RetrievalTime late;
+    late.location = StepDeadline([] { return 10.0; }, 5, &location_cost_);
+    late.read_ahead = &read_ahead;
+    late.staging = &staging;
+    late.stage_deferred = stage_deferred;
+    const RetrievalOutcome deferred = Retrieve(ids_[2], 1, 4, memory_, *ltm_, late);
+    EXPECT_TRUE(deferred.retrieved.empty());
+    EXPECT_EQ(deferred.deferred, 1);
+    EXPECT_EQ(staging.Find(ids_[2]) != nullptr, stage_deferred);
+    staging.StartIteration();
+    RetrievalTime next;
+    next.location = StepDeadline([] { return 0.0; }, 1e9, &location_cost_);
+    next.search_chunk = StepDeadline([] { return 0.0; }, 1e9, &chunk_cost_);
+    next.read_ahead = &read_ahead;
+    next.staging = &staging;
+    const RetrievalOutcome carried = ContinueStaged(1, memory_, *ltm_, next);
+    EXPECT_EQ(carried.retrieved,
+              stage_deferred ? std::vector<LocationId>{ids_[2]} : std::vector<LocationId>{});
+    EXPECT_EQ(ltm_->Contains(ids_[2]), !stage_deferred);
+  }
 }
 
 // memory.retrieval_ahead_unsearched: asked for L3, the neighbour ahead of it (L4 when the robot

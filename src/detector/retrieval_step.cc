@@ -40,6 +40,7 @@ RetrievalTime RetrievalStep::TimeOf(const std::function<StepDeadline(StepCost*)>
     time.staged_checks = options_.retrieval_kd_checks;
     time.ahead_unsearched = options_.retrieval_ahead_unsearched != 0;
     time.recent_twins = options_.retrieval_recent_twins;
+    time.stage_deferred = options_.retrieval_stage_deferred != 0;
   }
   return time;
 }
