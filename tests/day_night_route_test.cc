@@ -144,7 +144,7 @@ TEST(DayNightRouteTest, WithinOneSessionTheChannelStaysOut) {
   std::cout << "in one session, night images closed on their day place by the channel weighing "
                "every location: "
             << all_run.night_found << "\n";
-  EXPECT_GE(all_run.night_found, 1);  // measured N
+  EXPECT_GE(all_run.night_found, 1);  // measured 3
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ bool SeenBefore(const Location& location, ImageIndex before);
 // The score of every WM location first seen before image `before` (0 for one without a
 // descriptor). The others are not weighed by the channel.
 IdMap<double> ScoreWholeImage(const std::vector<uint8_t>& descriptor, const Memory& memory,
-                              ImageIndex before = kNoImage);
+                              ImageIndex before);
 
 // Whether the words' eq. 3 value (before the channel's factor) reaches `min_value` for a WM
 // location first seen before image `before`: the words recognize the place, and the channel
