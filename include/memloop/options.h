@@ -303,6 +303,14 @@ struct FilterOptions {
   // N_pair) with L_i (memloop); 0: the paper. One or two shared words are chance collisions in a
   // dictionary of 10^4-10^5 words, yet eq. 3 makes them "stand out" when every score is as low.
   int min_shared_words = 3;
+  // 1, with require_support: when Rehearsal gave L_t an older image's words (III-B: "z_t is
+  // cleared and z_c is copied into z_t"), the image's own words must also share min_shared_words
+  // words with L_i and score at least eq. 3's mu (of z_t's scores) against it: a camera turning
+  // away keeps merging into the older signature, and the filter would otherwise accept a place
+  // the older image saw and the image no longer does (memloop, in --preset hand-held). 0: z_t
+  // only, the paper and the default: on generated forward-moving routes it costs recall under WM
+  // budgets (docs/design.md).
+  int support_from_image = 0;
   // 1: a hypothesis is not accepted while a location linked to it is in LTM (deferred for T_time,
   // or transferred) and looks more like the image than it does (memloop); 0: the paper.
   int ltm_neighbour_check = 1;
@@ -366,8 +374,8 @@ struct Options {
   // lists each choice, what the defaults change, and what each change measured.
   static Options Paper2011();
   // The defaults for a camera that rolls about its axis (hand-held, walking): U-SURF described in
-  // each image's rolled frame, and loop closures refused between views rolled apart
-  // (docs/design.md, "Camera roll").
+  // each image's rolled frame, loop closures refused between views rolled apart, and a loop
+  // closure needs the image's own words after a Rehearsal merge (docs/design.md, "Camera roll").
   static Options HandHeld();
   // The defaults with the whole-image channel, for places revisited under another light (day,
   // then night: docs/design.md, "Whole-image channel").

@@ -1,5 +1,6 @@
 #include "memloop/detector.h"
 
+#include <optional>
 #include <set>
 
 #include "detector/appearance_retrieval.h"
@@ -183,6 +184,7 @@ class Detector::Impl {
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_immune_.StartIteration(counters_.images_processed);
+    image_words_.reset();
     retrieved_kept_last_.StartIteration(counters_.images_processed);
     ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
     ltm_.TakeFileReadMs();
@@ -324,10 +326,15 @@ class Detector::Impl {
 
   void Rehearse(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.rehearsal_ms);
+    std::optional<Signature> image_words;  // filter.support_from_image: before a merge
+    if (options_.filter.require_support && options_.filter.support_from_image) {
+      image_words.emplace().words = memory_.at(t).signature.words;
+    }
     const RehearsalOutcome outcome =
         memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_,
                           options_.memory.rehearsal_most_similar != 0);
     result.rehearsal_merged_id = outcome.merged_id;
+    image_words_ = outcome.merged_id != kNoLocation ? std::move(image_words) : std::nullopt;
   }
 
   Likelihood ComputeObservation(const Signature& z_t, Result& result) {
@@ -369,6 +376,7 @@ class Detector::Impl {
                                              neighbourhoods, selection_options_);
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
     RequireSupport(view, likelihood, hypothesis);
+    RequireImageSupport(view, z_t, likelihood, hypothesis);
     RequireSimilarRoll(view, hypothesis);
     // Not in the checkpoint: after a resume the first image has no previous value (refused).
     RequireLoopRatio(previous_hypothesis_value_, options_.filter.loop_ratio, hypothesis);
@@ -415,6 +423,20 @@ class Detector::Impl {
   bool SupportedByWords(const Signature& z_t, const Likelihood& likelihood, LocationId id) const {
     if (!SharesWords(z_t, memory_.at(id).signature, options_.filter.min_shared_words)) return false;
     return !options_.filter.require_support || WordLikelihood(likelihood, id) > 1.0;
+  }
+
+  // filter.support_from_image: after a Rehearsal merge z_t holds an older image's words; the
+  // image's own must support L_i too (a rolled view is the image's own already).
+  void RequireImageSupport(const Signature& view, const Signature& z_t,
+                           const Likelihood& likelihood, Hypothesis& hypothesis) const {
+    if (!image_words_ || &view != &z_t || hypothesis.id == kNoLocation) return;
+    if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
+      return;
+    }
+    if (!SupportedByImage(*image_words_, memory_.at(hypothesis.id).signature, likelihood.mean,
+                          options_.filter.min_shared_words)) {
+      hypothesis.Refuse();
+    }
   }
 
   // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.
@@ -608,6 +630,8 @@ class Detector::Impl {
   RecentRetrievals retrieved_immune_{options_.memory.retrieved_immune_iterations};
   RecentRetrievals retrieved_kept_last_{options_.memory.retrieved_kept_last_iterations};
   RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view
+  // This image's own words when Rehearsal gave its location older ones (filter.support_from_image).
+  std::optional<Signature> image_words_;
   WholeImageAgreement agreement_{
       options_.features.whole_image ? options_.filter.whole_image_agreement : 0};
   bool closed_ = false;

@@ -70,6 +70,12 @@ bool SharesWords(const Signature& z_t, const Signature& z_i, int min_words) {
   return min_words <= 0 || CountWordPairs(z_t.Histogram(), z_i.Histogram()) >= min_words;
 }
 
+bool SupportedByImage(const Signature& image, const Signature& z_i, double min_score,
+                      int min_words) {
+  const double score = Similarity(image, z_i);
+  return score > 0 && score >= min_score && SharesWords(image, z_i, min_words);
+}
+
 void CheckLtmNeighbours(const std::vector<LocationId>& links,
                         const std::function<bool(LocationId)>& in_ltm,
                         const std::function<double(LocationId)>& looks_like_image,

@@ -51,6 +51,13 @@ void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hy
 // a true match: the support of eq. 3 is relative, this floor is absolute.
 bool SharesWords(const Signature& z_t, const Signature& z_i, int min_words);
 
+// filter.support_from_image (memloop): true when the image's own words (`image`, before Rehearsal
+// replaced them with an older image's) share at least `min_words` words with L_i (`z_i`) and
+// score at least `min_score` against it in eq. 1 (the mean mu of z_t's non-null WM scores: the
+// image still looks more like L_i than an average WM location does).
+bool SupportedByImage(const Signature& image, const Signature& z_i, double min_score,
+                      int min_words);
+
 // filter.ltm_neighbour_check (memloop): L_i is refused while a location linked to it (`links`) is
 // in LTM and looks more like the image than L_i does: the image may have been taken there, where
 // the filter could not look (it was transferred, its retrieval was deferred, or comes after this

@@ -85,6 +85,20 @@ TEST(HypothesisTest, TooFewSharedWordsRefuse) {
   EXPECT_FALSE(SharesWords(z_t, z_i, 3));
 }
 
+// The image's own words {1, 2, 3, 4} against z_i = {1, 2, 3, 9, 10, 11}: N_pair = 3, eq. 1
+// s = 3 / max(4, 6) = 0.5.
+TEST(HypothesisTest, TheImageItselfSupportsLiWhenItsOwnWordsScoreAtLeastTheMean) {
+  Signature image, z_i;
+  image.words = {1, 2, 3, 4};
+  z_i.words = {1, 2, 3, 9, 10, 11};
+  EXPECT_TRUE(SupportedByImage(image, z_i, 0.5, 3));
+  EXPECT_FALSE(SupportedByImage(image, z_i, 0.51, 3));  // under the mean
+  EXPECT_FALSE(SupportedByImage(image, z_i, 0.1, 4));   // 3 shared words, 4 asked
+  Signature elsewhere;
+  elsewhere.words = {20, 21, 22};
+  EXPECT_FALSE(SupportedByImage(elsewhere, z_i, 0, 0));  // s = 0 never supports
+}
+
 // L_i = 2 linked to 1 and 3; 3 is in LTM. Image scores: L_i 0.4, 1 0.9 (in WM: not counted).
 TEST(HypothesisTest, AnLtmNeighbourThatLooksMoreLikeTheImageRefuses) {
   const auto in_ltm = [](LocationId id) { return id == 3; };
