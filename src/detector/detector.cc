@@ -184,8 +184,8 @@ class Detector::Impl {
     counters_.last_image = result.image_index;
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_immune_.StartIteration(counters_.images_processed);
-    image_words_.reset();
     retrieved_kept_last_.StartIteration(counters_.images_processed);
+    image_words_.reset();     // set by Rehearse, which localization does not call
     ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
     ltm_.TakeFileReadMs();
     iteration_cpu_start_ms_ = ThreadCpuMs();
@@ -326,15 +326,13 @@ class Detector::Impl {
 
   void Rehearse(LocationId t, Result& result) {
     ScopedTimer timer(&result.times.rehearsal_ms);
-    std::optional<Signature> image_words;  // filter.support_from_image: before a merge
-    if (options_.filter.require_support && options_.filter.support_from_image) {
-      image_words.emplace().words = memory_.at(t).signature.words;
-    }
-    const RehearsalOutcome outcome =
+    RehearsalOutcome outcome =
         memloop::Rehearse(t, options_.memory.rehearsal_threshold, memory_, editor_,
                           options_.memory.rehearsal_most_similar != 0);
     result.rehearsal_merged_id = outcome.merged_id;
-    image_words_ = outcome.merged_id != kNoLocation ? std::move(image_words) : std::nullopt;
+    if (outcome.merged_id != kNoLocation && options_.filter.support_from_image) {
+      image_words_.emplace().words = std::move(outcome.replaced_words);
+    }
   }
 
   Likelihood ComputeObservation(const Signature& z_t, Result& result) {
@@ -375,8 +373,7 @@ class Detector::Impl {
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
-    RequireSupport(view, likelihood, hypothesis);
-    RequireImageSupport(view, z_t, likelihood, hypothesis);
+    RequireSupport(view, z_t, likelihood, hypothesis);
     RequireSimilarRoll(view, hypothesis);
     // Not in the checkpoint: after a resume the first image has no previous value (refused).
     RequireLoopRatio(previous_hypothesis_value_, options_.filter.loop_ratio, hypothesis);
@@ -408,14 +405,18 @@ class Detector::Impl {
   // likelihood for L_i must stand out (eq. 3 above 1, s_i >= mu + sigma); a hypothesis carried
   // only by the prior (just after leaving a revisited stretch) is not eligible. Standing out is
   // relative, so filter.min_shared_words also asks for a few shared words (hypothesis.h).
-  void RequireSupport(const Signature& z_t, const Likelihood& likelihood,
+  // `view` is what matched L_i (z_t or the rolled view).
+  void RequireSupport(const Signature& view, const Signature& z_t, const Likelihood& likelihood,
                       Hypothesis& hypothesis) const {
     if (hypothesis.id == kNoLocation) return;
     // Supported by the whole image instead of words only if the channel agreed over images.
     if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
       return agreement_.Require(memory_, options_.filter.neighbour_range, hypothesis);
     }
-    if (!SupportedByWords(z_t, likelihood, hypothesis.id)) hypothesis.Refuse();
+    if (!SupportedByWords(view, likelihood, hypothesis.id) ||
+        !SupportedByOwnWords(view, z_t, likelihood, hypothesis.id)) {
+      hypothesis.Refuse();
+    }
   }
 
   // The words' own eq. 3, without the whole-image channel's factor: a channel's look-alike with a
@@ -427,16 +428,11 @@ class Detector::Impl {
 
   // filter.support_from_image: after a Rehearsal merge z_t holds an older image's words; the
   // image's own must support L_i too (a rolled view is the image's own already).
-  void RequireImageSupport(const Signature& view, const Signature& z_t,
-                           const Likelihood& likelihood, Hypothesis& hypothesis) const {
-    if (!image_words_ || &view != &z_t || hypothesis.id == kNoLocation) return;
-    if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
-      return;
-    }
-    if (!SupportedByImage(*image_words_, memory_.at(hypothesis.id).signature, likelihood.mean,
-                          options_.filter.min_shared_words)) {
-      hypothesis.Refuse();
-    }
+  bool SupportedByOwnWords(const Signature& view, const Signature& z_t,
+                           const Likelihood& likelihood, LocationId id) const {
+    if (!options_.filter.require_support || !image_words_ || &view != &z_t) return true;
+    return SupportedByImage(*image_words_, memory_.at(id).signature, likelihood.mean,
+                            options_.filter.min_shared_words);
   }
 
   // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.

@@ -19,6 +19,7 @@ RehearsalOutcome Rehearse(LocationId new_id, double threshold, Memory& memory, M
 
   const LocationId merged = outcome.merged_id;
   memory.at(new_id).weight += memory.at(merged).weight + 1;
+  outcome.replaced_words = memory.at(new_id).signature.words;
   editor.ReplaceSignature(new_id, memory.at(merged).signature);
   editor.Merge(new_id, merged);
   return outcome;

@@ -14,6 +14,9 @@ namespace memloop {
 struct RehearsalOutcome {
   LocationId merged_id = kNoLocation;  // L_c, kNoLocation when none was similar enough
   double similarity = 0;
+  // On a merge, the words z_t held before z_c replaced them: the image's own
+  // (filter.support_from_image). Empty when nothing was merged.
+  std::vector<WordId> replaced_words;
 };
 
 // Compares L_t (`new_id`, the newest STM location) with the other STM locations. On a merge:

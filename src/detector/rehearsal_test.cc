@@ -18,9 +18,10 @@ TEST(RehearsalTest, MergesTheMostRecentSimilarLocationAsThePaperSays) {
   EXPECT_EQ(outcome.merged_id, ids[1]);
   EXPECT_DOUBLE_EQ(outcome.similarity, 0.4);
   const Location& merged = memory.at(ids[2]);
-  EXPECT_EQ(merged.signature.words, (std::vector<WordId>{4, 5, 6}));  // z_c copied into z_t
-  EXPECT_EQ(merged.weight, 0 + 3 + 1);                                // weight_c + 1
-  EXPECT_EQ(merged.neighbours, (std::set<LocationId>{ids[0]}));       // L_c's links
+  EXPECT_EQ(merged.signature.words, (std::vector<WordId>{4, 5, 6}));        // z_c copied into z_t
+  EXPECT_EQ(outcome.replaced_words, (std::vector<WordId>{1, 2, 4, 5, 7}));  // the image's own
+  EXPECT_EQ(merged.weight, 0 + 3 + 1);                                      // weight_c + 1
+  EXPECT_EQ(merged.neighbours, (std::set<LocationId>{ids[0]}));             // L_c's links
   EXPECT_EQ(memory.at(ids[0]).neighbours, (std::set<LocationId>{ids[2]}));
   EXPECT_EQ(merged.images, (std::vector<ImageIndex>{2, 1}));
   EXPECT_FALSE(memory.Contains(ids[1]));  // L_c deleted from STM
@@ -60,6 +61,7 @@ TEST(RehearsalTest, NothingMergedAtOrBelowTheThreshold) {
   const auto ids = testing::AddChain(memory, {{1, 2, 3, 4, 5}, {1, 6, 7, 8, 9}});
   const RehearsalOutcome outcome = Rehearse(ids[1], 0.2, memory, map.editor);
   EXPECT_EQ(outcome.merged_id, kNoLocation);
+  EXPECT_TRUE(outcome.replaced_words.empty());
   EXPECT_EQ(Rehearse(ids[1], 0.2, memory, map.editor, true).merged_id, kNoLocation);
   EXPECT_EQ(memory.size(), 2u);
   EXPECT_EQ(memory.at(ids[1]).weight, 0);
