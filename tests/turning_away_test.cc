@@ -6,11 +6,9 @@
 // loop when their crops overlap by at least a quarter, none when they do not overlap.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include "memloop/detector.h"
 #include "noise_texture.h"
-#include "route_frames_run.h"
+#include "panorama_crops.h"
 
 namespace memloop {
 namespace {
@@ -39,10 +37,6 @@ bool IsTurn(int index) {
   return index >= kWallImages && (index - kWallImages) % (kStretch + 1) == kStretch;
 }
 
-double Overlap(const cv::Rect& a, const cv::Rect& b) {
-  return static_cast<double>((a & b).area()) / a.area();
-}
-
 struct TurnRun {
   int true_positives = 0;
   int false_positives = 0;  // loop closures on a location whose images' crops do not overlap
@@ -55,16 +49,10 @@ TurnRun RunTurns(bool support_from_image) {
       testing::NoiseTexture(cv::Size(kWallImages * kWidth, 2 * kHeight), 23, 2.0);
   Options options;
   options.filter.support_from_image = support_from_image;
-  const testing::FramesRun frames =
-      testing::RunFrames(options, static_cast<int>(crops.size()),
-                         [&](int index) { return cv::Mat(panorama(crops[index])).clone(); });
   TurnRun run;
-  for (const Result& result : frames.loop_closures) {
+  for (const Result& result : testing::RunCrops(options, panorama, crops).loop_closures) {
     const int index = static_cast<int>(result.image_index);
-    double best = 0;
-    for (ImageIndex match : result.loop_closure_images) {
-      best = std::max(best, Overlap(crops[index], crops[match]));
-    }
+    const double best = testing::BestOverlap(crops, result);
     if (best >= 0.25) ++run.true_positives;
     if (best == 0) ++run.false_positives;
     if (IsTurn(index)) ++run.turns_closed;

@@ -311,6 +311,13 @@ struct FilterOptions {
   // only, the paper and the default: on generated forward-moving routes it costs recall under WM
   // budgets (docs/design.md).
   int support_from_image = 0;
+  // 1: when Rehearsal gave L_t an older image's words (III-B), the filter observes words it has
+  // already observed, and a value that rises then rises on the same evidence counted again: the
+  // value compared with T_loop is at most the previous image's. A merged image keeps a loop
+  // closure the previous image accepted; it does not start one (memloop, in --preset hand-held).
+  // 0: the paper and the default: on tum_fr1_rpy it moves a false positive from one WM budget
+  // to another instead of removing it (docs/design.md).
+  int cap_merged_images = 0;
   // 1: a hypothesis is not accepted while a location linked to it is in LTM (deferred for T_time,
   // or transferred) and looks more like the image than it does (memloop); 0: the paper.
   int ltm_neighbour_check = 1;

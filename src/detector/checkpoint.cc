@@ -102,6 +102,8 @@ constexpr const char* kFilter = "filter";
 constexpr const char* kPastMatches = "past_matches";
 // Absent from maps written before retrieved_kept_last_iterations (2026-12-05): none.
 constexpr const char* kKeptLast = "retrieved_kept_last";
+// Absent from maps written before filter.cap_merged_images (2026-12-05): 0.
+constexpr const char* kPreviousValue = "previous_hypothesis_value";
 
 }  // namespace
 
@@ -285,6 +287,7 @@ CheckpointData CheckpointWriter::Next(const Memory& memory, const BayesFilter& f
     retrieved.Put<int32_t>(id).Put<int64_t>(iteration);
   }
   AddState(checkpoint, kKeptLast, retrieved.Take());
+  AddState(checkpoint, kPreviousValue, ByteWriter().Put(counters.previous_hypothesis_value).Take());
   first_ = false;
   return checkpoint;
 }
@@ -416,6 +419,11 @@ ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> for
       const auto id = reader.Get<int32_t>();
       state.kept_last[id] = reader.Get<int64_t>();
     }
+    reader.ExpectEnd();
+  }
+  if (const std::optional<std::vector<unsigned char>> bytes = database.ReadState(kPreviousValue)) {
+    ByteReader reader(*bytes, "the checkpoint's previous hypothesis value");
+    state.counters.previous_hypothesis_value = reader.Get<double>();
     reader.ExpectEnd();
   }
   std::set<WordId> words;

@@ -30,6 +30,9 @@ struct DetectorCounters {
   ImageIndex last_image = kNoImage;  // the last image processed
   long long images_processed = 0;
   LocationId newest_location = kNoLocation;  // L_t-1 for the next image
+  // The value the last image with a hypothesis compared with T_loop (filter.loop_ratio,
+  // filter.cap_merged_images); 0 in a map written before it was kept (2026-12-05).
+  double previous_hypothesis_value = 0;
 };
 
 // Everything a resumed detector starts from.

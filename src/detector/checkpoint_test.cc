@@ -106,9 +106,9 @@ TEST_F(CheckpointWriterTest, WritesEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(first.locations.size(), 3u);
   EXPECT_EQ(first.index_words, (std::vector<WordId>{1, 2, 3, 4}));
   EXPECT_EQ(first.index_descriptors.size(), 4u);
-  EXPECT_EQ(first.state.size(), 7u);  // counters, stm, index (and pending build), filter, past
-                                      // matches, retrieved locations kept last; no LTM mark yet,
-                                      // so no chunk of them
+  EXPECT_EQ(first.state.size(), 8u);  // counters, stm, index (and pending build), filter, past
+                                      // matches, retrieved locations kept last, the previous
+                                      // hypothesis value; no LTM mark yet, so no chunk of them
 
   const CheckpointData unchanged = Next();
   EXPECT_FALSE(unchanged.full);
@@ -277,7 +277,7 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   memory_.dictionary().MarkReferencedByLtm(3);
   filter_.Reload({{1, 0.25}, {2, 0.5}}, 0.25);
   past_matches_ = {{1, 4}};
-  counters_ = {11, 12, 4};
+  counters_ = {11, 12, 4, 0.125};
   kept_last_.Retrieved({2}, 9);
   database.WriteCheckpoint(Next());
   kept_last_.Retrieved({1}, 12);
@@ -291,6 +291,7 @@ TEST_F(CheckpointWriterTest, WhatIsWrittenReadsBackAsTheSameState) {
   EXPECT_EQ(state.counters.last_image, 11);
   EXPECT_EQ(state.counters.images_processed, 12);
   EXPECT_EQ(state.counters.newest_location, 4);
+  EXPECT_EQ(state.counters.previous_hypothesis_value, 0.125);
   EXPECT_EQ(state.next_location_id, 5);
   EXPECT_EQ(state.next_word_id, 5);
   EXPECT_EQ(state.stm, (std::deque<LocationId>{3, 4}));

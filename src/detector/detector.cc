@@ -212,7 +212,7 @@ class Detector::Impl {
     MoveStmToWm();
     filter_.Forget();
     counters_.newest_location = kNoLocation;
-    previous_hypothesis_value_ = 0;
+    counters_.previous_hypothesis_value = 0;
     sessions_.StartNew(counters_.last_image);
   }
 
@@ -372,12 +372,15 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
+    double& previous_value = counters_.previous_hypothesis_value;
+    if (options_.filter.cap_merged_images && result.rehearsal_merged_id != kNoLocation) {
+      CapRepeatedObservation(previous_value, selection_options_.loop_threshold, hypothesis);
+    }
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
     RequireSupport(view, z_t, likelihood, hypothesis);
     RequireSimilarRoll(view, hypothesis);
-    // Not in the checkpoint: after a resume the first image has no previous value (refused).
-    RequireLoopRatio(previous_hypothesis_value_, options_.filter.loop_ratio, hypothesis);
-    if (hypothesis.id != kNoLocation) previous_hypothesis_value_ = hypothesis.value;
+    RequireLoopRatio(previous_value, options_.filter.loop_ratio, hypothesis);
+    if (hypothesis.id != kNoLocation) previous_value = hypothesis.value;
     CheckLtmNeighbours(appearance, hypothesis);
     Verify(view, hypothesis, result);
     result.hypothesis_id = hypothesis.id;
@@ -622,7 +625,6 @@ class Detector::Impl {
   CheckpointWriter checkpoints_;
   bool failed_ = false;
   size_t dictionary_size_at_start_ = 0;
-  double previous_hypothesis_value_ = 0;  // filter.loop_ratio: the last image's highest value
   RecentRetrievals retrieved_immune_{options_.memory.retrieved_immune_iterations};
   RecentRetrievals retrieved_kept_last_{options_.memory.retrieved_kept_last_iterations};
   RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view

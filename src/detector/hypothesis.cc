@@ -61,6 +61,12 @@ void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesi
   if (previous_value <= 0 || hypothesis.value < ratio * previous_value) hypothesis.Refuse();
 }
 
+void CapRepeatedObservation(double previous_value, double loop_threshold, Hypothesis& hypothesis) {
+  if (hypothesis.id == kNoLocation || hypothesis.value <= previous_value) return;
+  hypothesis.value = previous_value;
+  hypothesis.accepted = hypothesis.eligible && hypothesis.value > loop_threshold;
+}
+
 void RequireSimilarRoll(const ViewRoll& roll, double max_degrees, Hypothesis& hypothesis) {
   if (max_degrees <= 0 || hypothesis.id == kNoLocation || !roll.known) return;
   if (std::fabs(roll.degrees) > max_degrees) hypothesis.Refuse();

@@ -38,6 +38,12 @@ Hypothesis SelectHypothesis(const IdMap<double>& posterior, double virtual_place
 // is at least `ratio` times the previous image's highest hypothesis value, which must not be 0.
 void RequireLoopRatio(double previous_value, double ratio, Hypothesis& hypothesis);
 
+// filter.cap_merged_images (memloop): on an image that Rehearsal merged into an older location,
+// whose words the filter has observed already, the hypothesis' value is at most
+// `previous_value` (the previous image's, as compared with T_loop) and is accepted only when that
+// value is over `loop_threshold`: repeated evidence keeps a loop closure, it does not make one.
+void CapRepeatedObservation(double previous_value, double loop_threshold, Hypothesis& hypothesis);
+
 // verify.max_roll_degrees (memloop): L_i is refused when the camera's roll between the image and
 // L_i, measured from where their shared words are (view_roll.h), is known and over `max_degrees`
 // (0: no check). Roll-compensated U-SURF and oriented features make views rolled far apart look

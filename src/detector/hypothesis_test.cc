@@ -176,6 +176,26 @@ TEST(HypothesisTest, LoopRatioRefusesAHypothesisBelowTheRatioOfThePreviousOne) {
   EXPECT_TRUE(hypothesis.accepted);
 }
 
+// filter.cap_merged_images: a merged image's value is at most the previous image's.
+TEST(HypothesisTest, AMergedImageKeepsALoopClosureButDoesNotStartOne) {
+  FilterOptions options = Neighbours();
+  options.min_hypotheses = 5;
+  options.loop_threshold = 0.11;
+  Hypothesis hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);  // 0.47, accepted
+  CapRepeatedObservation(0.1065, 0.11, hypothesis);  // the previous image was under T_loop
+  EXPECT_NEAR(hypothesis.value, 0.1065, 1e-12);
+  EXPECT_FALSE(hypothesis.accepted);
+  EXPECT_TRUE(hypothesis.eligible);  // a lower threshold would accept it: PR curves sweep it
+  hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  CapRepeatedObservation(0.2, 0.11, hypothesis);  // the previous image was accepted at 0.2
+  EXPECT_NEAR(hypothesis.value, 0.2, 1e-12);
+  EXPECT_TRUE(hypothesis.accepted);
+  hypothesis = SelectHypothesis(kPosterior, 0.5, Graph(), options);
+  CapRepeatedObservation(0.6, 0.11, hypothesis);  // a value that falls is not raised
+  EXPECT_NEAR(hypothesis.value, 0.47, 1e-12);
+  EXPECT_TRUE(hypothesis.accepted);
+}
+
 // verify.max_roll_degrees: a known roll over the bound refuses, an unknown one does not.
 TEST(HypothesisTest, ViewRollOverTheBoundRefuses) {
   FilterOptions options = Neighbours();

@@ -194,6 +194,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("eq. 1").Help("accept only a hypothesis L_i with which the image shares at least this many words (N_pair): one or two are chance collisions (0 = the paper)"),
     Param("filter.support_from_image", MEMLOOP_FIELD(filter.support_from_image)).Flag()
         .Symbol("III-B").Help("true, with filter.require_support: when Rehearsal gave the image's location an older image's words, the image's own words must support the hypothesis too (filter.min_shared_words shared, eq. 1 score >= eq. 3's mu)"),
+    Param("filter.cap_merged_images", MEMLOOP_FIELD(filter.cap_merged_images)).Flag()
+        .Symbol("III-B, III-D").Help("true: when Rehearsal gave the image's location an older image's words, the filter sees an observation it has seen, and the value compared with T_loop is at most the previous image's: a merged image keeps a loop closure, it does not start one (in --preset hand-held; false = the paper and the default)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()
         .Help("true: no loop closure on L_i while a location linked to it is in LTM (deferred for T_time, or transferred) and looks more like the image (retrieval by appearance's descriptions; without them, any): the filter, which could not weigh it, may lag behind the robot (false = the paper)"),
     Param("filter.whole_image_gain", MEMLOOP_FIELD(filter.whole_image_gain)).Range(0, 100)

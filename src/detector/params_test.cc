@@ -94,6 +94,8 @@ TEST(ParamsTest, PresetsByName) {
   EXPECT_EQ(hand_held.verification.max_roll_degrees, 20);
   EXPECT_EQ(hand_held.filter.support_from_image, 1);
   EXPECT_EQ(Options().filter.support_from_image, 0);
+  EXPECT_EQ(hand_held.filter.cap_merged_images, 1);
+  EXPECT_EQ(Options().filter.cap_merged_images, 0);
   EXPECT_EQ(hand_held.memory.stm_size, Options().memory.stm_size);
   for (const Parameter& parameter : Parameters()) {
     EXPECT_TRUE(parameter.Check(hand_held).empty()) << parameter.key;
