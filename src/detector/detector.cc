@@ -8,9 +8,9 @@
 #include "detector/checkpoint.h"
 #include "detector/consistency.h"
 #include "detector/detector_setup.h"
-#include "detector/epipolar_check.h"
 #include "detector/hypothesis.h"
 #include "detector/likelihood.h"
+#include "detector/loop_acceptance.h"
 #include "detector/loop_geometry.h"
 #include "detector/map_editor.h"
 #include "detector/map_parameters.h"
@@ -23,10 +23,7 @@
 #include "detector/signature_budget.h"
 #include "detector/stopwatch.h"
 #include "detector/transfer.h"
-#include "detector/view_roll.h"
-#include "detector/whole_image_agreement.h"
 #include "detector/whole_image_likelihood.h"
-#include "detector/word_correspondences.h"
 #include "features/whole_image_descriptor.h"
 #include "memloop/errors.h"
 #include "memloop/feature_extractor.h"
@@ -345,8 +342,8 @@ class Detector::Impl {
                                               options_.filter.no_signal_virtual_place);
     if (options_.features.whole_image) {  // the second channel (whole_image_likelihood.h)
       WeighWholeImage(z_t.whole_image, memory_, options_.filter, WholeImageBefore(), likelihood);
-      agreement_.Observe(likelihood, options_.filter.whole_image_support_z);
     }
+    acceptance_.Observe(likelihood);
     return likelihood;
   }
 
@@ -372,17 +369,10 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
-    double& previous_value = counters_.previous_hypothesis_value;
-    if (options_.filter.cap_merged_images && result.rehearsal_merged_id != kNoLocation) {
-      CapRepeatedObservation(previous_value, selection_options_.loop_threshold, hypothesis);
-    }
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
-    RequireSupport(view, z_t, likelihood, hypothesis);
-    RequireSimilarRoll(view, hypothesis);
-    RequireLoopRatio(previous_value, options_.filter.loop_ratio, hypothesis);
-    if (hypothesis.id != kNoLocation) previous_value = hypothesis.value;
-    CheckLtmNeighbours(appearance, hypothesis);
-    Verify(view, hypothesis, result);
+    acceptance_.Check({z_t, view, result.rehearsal_merged_id != kNoLocation,
+                       image_words_ ? &*image_words_ : nullptr, likelihood, appearance},
+                      counters_.previous_hypothesis_value, hypothesis, &result.hypothesis_inliers);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
@@ -402,76 +392,6 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     AbsorbPastMatches(hypothesis, neighbourhoods);
     if (hypothesis.accepted) AcceptLoopClosure(t, hypothesis, result);
-  }
-
-  // A loop closure says that the image matches L_i: with filter.require_support, the image's own
-  // likelihood for L_i must stand out (eq. 3 above 1, s_i >= mu + sigma); a hypothesis carried
-  // only by the prior (just after leaving a revisited stretch) is not eligible. Standing out is
-  // relative, so filter.min_shared_words also asks for a few shared words (hypothesis.h).
-  // `view` is what matched L_i (z_t or the rolled view).
-  void RequireSupport(const Signature& view, const Signature& z_t, const Likelihood& likelihood,
-                      Hypothesis& hypothesis) const {
-    if (hypothesis.id == kNoLocation) return;
-    // Supported by the whole image instead of words only if the channel agreed over images.
-    if (SupportedByWholeImage(likelihood, hypothesis.id, options_.filter.whole_image_support_z)) {
-      return agreement_.Require(memory_, options_.filter.neighbour_range, hypothesis);
-    }
-    if (!SupportedByWords(view, likelihood, hypothesis.id) ||
-        !SupportedByOwnWords(view, z_t, likelihood, hypothesis.id)) {
-      hypothesis.Refuse();
-    }
-  }
-
-  // The words' own eq. 3, without the whole-image channel's factor: a channel's look-alike with a
-  // few chance words is not supported by words.
-  bool SupportedByWords(const Signature& z_t, const Likelihood& likelihood, LocationId id) const {
-    if (!SharesWords(z_t, memory_.at(id).signature, options_.filter.min_shared_words)) return false;
-    return !options_.filter.require_support || WordLikelihood(likelihood, id) > 1.0;
-  }
-
-  // filter.support_from_image: after a Rehearsal merge z_t holds an older image's words; the
-  // image's own must support L_i too (a rolled view is the image's own already).
-  bool SupportedByOwnWords(const Signature& view, const Signature& z_t,
-                           const Likelihood& likelihood, LocationId id) const {
-    if (!options_.filter.require_support || !image_words_ || &view != &z_t) return true;
-    return SupportedByImage(*image_words_, memory_.at(id).signature, likelihood.mean,
-                            options_.filter.min_shared_words);
-  }
-
-  // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.
-  void RequireSimilarRoll(const Signature& z_t, Hypothesis& hypothesis) const {
-    const double max_degrees = options_.verification.max_roll_degrees;
-    if (max_degrees <= 0 || hypothesis.id == kNoLocation || !hypothesis.eligible) return;
-    const Signature& z_i = memory_.at(hypothesis.id).signature;
-    memloop::RequireSimilarRoll(EstimateViewRoll(UniqueWordCorrespondences(z_t, z_i)), max_degrees,
-                                hypothesis);
-  }
-
-  // filter.ltm_neighbour_check (hypothesis.h), at every image: the filter weighs WM alone, and a
-  // location linked to L_i that left for LTM (deferred for T_time, or transferred under a small
-  // WM) may be where the image was taken. The three false positives of a 50,000-image run under
-  // T_time, and the five of tum_fr1_rpy (ORB, SIFT) at a quarter of the unbounded WM, were such
-  // hypotheses (docs/design.md, "LTM-neighbour check").
-  void CheckLtmNeighbours(const Appearance* appearance, Hypothesis& hypothesis) const {
-    if (!options_.filter.ltm_neighbour_check) return;
-    if (hypothesis.id == kNoLocation) return;
-    std::function<double(LocationId)> looks_like_image;
-    if (appearance_ && appearance != nullptr) {
-      looks_like_image = [&](LocationId id) { return appearance_->Score(*appearance, id); };
-    }
-    memloop::CheckLtmNeighbours(
-        memory_.LinksOf(hypothesis.id), [&](LocationId id) { return ltm_.Contains(id); },
-        looks_like_image, hypothesis);
-  }
-
-  // Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
-  // T_loop over what verification lets through.
-  void Verify(const Signature& z_t, Hypothesis& hypothesis, Result& result) {
-    if (options_.verification.min_inliers == 0 || !hypothesis.eligible) return;
-    const EpipolarCheck check =
-        CheckEpipolarGeometry(z_t, memory_.at(hypothesis.id).signature, options_.verification);
-    result.hypothesis_inliers = check.inliers;
-    if (!check.passed) hypothesis.Refuse();
   }
 
   // III-D: L_t takes L_i's weight plus one and its neighbour links. L_i stays (its hypothesis
@@ -630,8 +550,7 @@ class Detector::Impl {
   RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view
   // This image's own words when Rehearsal gave its location older ones (filter.support_from_image).
   std::optional<Signature> image_words_;
-  WholeImageAgreement agreement_{
-      options_.features.whole_image ? options_.filter.whole_image_agreement : 0};
+  LoopAcceptance acceptance_{options_, memory_, ltm_, appearance_.get()};  // III-D's checks
   bool closed_ = false;
   SessionNumbering sessions_;
 };
