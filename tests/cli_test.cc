@@ -518,6 +518,9 @@ TEST_F(CliTest, TimeLimitUnderTheFixedCostIsWarnedWithTheFloor) {
   const Outcome eval = Memloop("eval " + dir_.File("run.csv") + " " +
                                folder_->File("ground_truth_pairs.csv") + " --time-limit-ms 700");
   EXPECT_TRUE(Contains(eval.output, "| fixed cost ")) << eval.output;
+  // How much of each iteration the detector's thread had the CPU (cpu_ms): waits for it are
+  // not the detector's work, and no transfer makes up for them.
+  EXPECT_TRUE(Contains(eval.output, "detector's thread on the CPU: median ")) << eval.output;
 }
 
 // A real-time priority changes when the work runs, never what it finds: the same CSV as without

@@ -4,6 +4,7 @@
 // images); recall counts the images that have at least one ground-truth match.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "memloop/ground_truth.h"
@@ -65,13 +66,31 @@ struct RunEvaluation {
   // with WM (features, quantization, rehearsal, retrieval, transfer, checkpoint). A T_time under
   // floor / memory.time_target cannot be held by transferring WM (issue 37).
   double median_fixed_ms = 0;
-  double time_limit_ms = 0;  // 0: not given, the two below are 0
+  double time_limit_ms = 0;  // 0: not given, the three below are 0
   int iterations_over_time_limit = 0;
   double max_over_time_limit = 0;
+  // Of those over T_time, the iterations whose thread was on the CPU under kWaitedCpuShare of
+  // their time (the CSV's cpu_ms; 0 without it).
+  int over_time_limit_waiting = 0;
+  // The detector's thread on the CPU: the median over iterations of cpu_ms / iteration_ms; -1
+  // when the CSV does not say (runs before the column, or a system without a thread clock).
+  double median_cpu_share = -1;
   double FractionOverTimeLimit() const {
     return images == 0 ? 0.0 : double(iterations_over_time_limit) / images;
   }
 };
+
+// The detector's thread's CPU time over an iteration's wall time (StageTimes::cpu_ms / total_ms)
+// is near 1 when the thread had a core; an iteration that took longer while its thread ran less
+// than this share of it waited: for the CPU (other programs at the same priority), the search's
+// helper thread or the disk, not for the detector's own work (issue 37). Measured, 6,300
+// generated images at a tight T_time: median 0.93-0.94 on a quiet 2-core machine, 0.29-0.33 with
+// another program's two busy loops (0.96 with them under a real-time priority).
+constexpr double kWaitedCpuShare = 0.5;
+
+// The median of cpu_ms / wall_ms over iterations (pairs cpu_ms, wall_ms); -1 when no iteration's
+// CPU time was measured (every cpu_ms 0 or negative).
+double MedianCpuShare(const std::vector<std::pair<double, double>>& cpu_and_wall_ms);
 
 // Rows as read by ReadRunCsv; ground truth over the same sequence; the run's T_time (0: none).
 RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& truth,

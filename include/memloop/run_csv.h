@@ -51,6 +51,7 @@ struct RunRow {
   double iteration_ms = 0;
   // likelihood + filter + selection: the stages that grow with WM (0 in CSVs without them).
   double wm_stages_ms = 0;
+  double cpu_ms = -1;  // the detector's thread's CPU time (StageTimes::cpu_ms); -1 without it
   int wm_size = 0;
   int ltm_size = 0;  // 0 in CSVs without it
   int dictionary_size = 0;

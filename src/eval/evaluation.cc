@@ -30,14 +30,33 @@ void AddTimeBound(const std::vector<RunRow>& rows, double time_limit_ms, RunEval
     fixed.push_back(std::max(0.0, row.iteration_ms - row.wm_stages_ms));
   std::nth_element(fixed.begin(), fixed.begin() + fixed.size() / 2, fixed.end());
   e->median_fixed_ms = fixed[fixed.size() / 2];
+  std::vector<std::pair<double, double>> cpu_and_wall;
+  for (const RunRow& row : rows) cpu_and_wall.emplace_back(row.cpu_ms, row.iteration_ms);
+  e->median_cpu_share = MedianCpuShare(cpu_and_wall);
   if (time_limit_ms <= 0) return;
   e->time_limit_ms = time_limit_ms;
   e->iterations_over_time_limit =
       static_cast<int>(times.end() - std::upper_bound(times.begin(), times.end(), time_limit_ms));
   e->max_over_time_limit = e->max_iteration_ms / time_limit_ms;
+  for (const RunRow& row : rows) {
+    e->over_time_limit_waiting += row.iteration_ms > time_limit_ms && row.cpu_ms >= 0 &&
+                                  row.cpu_ms < kWaitedCpuShare * row.iteration_ms;
+  }
 }
 
 }  // namespace
+
+double MedianCpuShare(const std::vector<std::pair<double, double>>& cpu_and_wall_ms) {
+  std::vector<double> shares;
+  bool measured = false;
+  for (const auto& [cpu_ms, wall_ms] : cpu_and_wall_ms) {
+    measured = measured || cpu_ms > 0;
+    if (wall_ms > 0 && cpu_ms >= 0) shares.push_back(std::min(1.0, cpu_ms / wall_ms));
+  }
+  if (!measured || shares.empty()) return -1;
+  std::nth_element(shares.begin(), shares.begin() + shares.size() / 2, shares.end());
+  return shares[shares.size() / 2];
+}
 
 PrecisionRecall Evaluate(const std::vector<Detection>& detections, const GroundTruth& truth) {
   PrecisionRecall result;

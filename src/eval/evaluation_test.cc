@@ -113,6 +113,33 @@ TEST(EvaluateRunTest, FixedCostIsTheMedianOutsideWmsStages) {
   EXPECT_DOUBLE_EQ(EvaluateRun(rows, SmallTruth(), 25).median_fixed_ms, 27);
 }
 
+// Iterations 0, 10, ..., 60 ms whose thread ran 0, 9, 4, 27, 10, 45, 6 ms of them: shares
+// (0 / 0 left out) 0.9, 0.2, 0.9, 0.25, 0.9, 0.1; sorted, the upper middle of six is 0.9.
+// Over T_time 25 ms: 30 (0.9), 40 (0.25), 50 (0.9), 60 (0.1): two under half the time.
+TEST(EvaluateRunTest, IterationsOverTheTimeLimitThatWaitedAreCounted) {
+  const std::vector<double> cpu = {0, 9, 4, 27, 10, 45, 6};
+  std::vector<RunRow> rows;
+  for (int image = 0; image < 7; ++image) {
+    rows.push_back(Row(image, {}, 0, {}));
+    rows.back().cpu_ms = cpu[image];
+  }
+  const RunEvaluation e = EvaluateRun(rows, SmallTruth(), 25);
+  EXPECT_EQ(e.iterations_over_time_limit, 4);
+  EXPECT_EQ(e.over_time_limit_waiting, 2);
+  EXPECT_DOUBLE_EQ(e.median_cpu_share, 0.9);
+  for (RunRow& row : rows) row.cpu_ms = -1;  // a CSV without the column
+  const RunEvaluation unknown = EvaluateRun(rows, SmallTruth(), 25);
+  EXPECT_EQ(unknown.over_time_limit_waiting, 0);
+  EXPECT_DOUBLE_EQ(unknown.median_cpu_share, -1);
+}
+
+TEST(MedianCpuShareTest, MedianOfCpuOverWallUnknownWhenNeverMeasured) {
+  EXPECT_DOUBLE_EQ(MedianCpuShare({{3, 10}, {9, 10}, {5, 10}}), 0.5);
+  EXPECT_DOUBLE_EQ(MedianCpuShare({{12, 10}}), 1.0);         // clocks of different grain: at most 1
+  EXPECT_DOUBLE_EQ(MedianCpuShare({{0, 10}, {0, 12}}), -1);  // no thread clock on this system
+  EXPECT_DOUBLE_EQ(MedianCpuShare({}), -1);
+}
+
 TEST(EvaluateRunTest, HandComputedCurveWithTiesMergedLocationsAndIgnoredPairs) {
   const std::vector<RunRow> rows = {
       Row(0, {}, 0, {}),

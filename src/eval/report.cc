@@ -154,7 +154,17 @@ std::string TimeBoundRows(const RunEvaluation& e) {
                 "<tr><th>fixed cost (median outside WM's stages)</th><td>%.1f ms</td></tr>\n",
                 e.time_limit_ms, e.iterations_over_time_limit, 100 * e.FractionOverTimeLimit(),
                 e.max_over_time_limit, e.median_fixed_ms);
-  return text;
+  std::string rows = text;
+  if (e.median_cpu_share >= 0) {
+    std::snprintf(text, sizeof(text),
+                  "<tr><th>detector's thread on the CPU (median share of an iteration)</th>"
+                  "<td>%.0f%%</td></tr>\n"
+                  "<tr><th>over T<sub>time</sub> with it on the CPU under %.0f%% of the time"
+                  "</th><td>%d</td></tr>\n",
+                  100 * e.median_cpu_share, 100 * kWaitedCpuShare, e.over_time_limit_waiting);
+    rows += text;
+  }
+  return rows;
 }
 
 std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth, bool ignored_as_true) {

@@ -314,6 +314,7 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
     for (const char* stage : {"likelihood_ms", "filter_ms", "selection_ms"}) {
       if (column.count(stage)) row.wm_stages_ms += real_of(stage, 0, 1e12);
     }
+    if (column.count("cpu_ms")) row.cpu_ms = real_of("cpu_ms", 0, 1e12);
     row.wm_size = static_cast<int>(integer_of("wm_size", kMaxId));
     if (column.count("ltm_size")) row.ltm_size = static_cast<int>(integer_of("ltm_size", kMaxId));
     row.dictionary_size = static_cast<int>(integer_of("dictionary_size", kMaxId));

@@ -18,6 +18,7 @@ TEST(RunCsvTest, WrittenRowsReadBack) {
   first.location_id = 1;
   first.hypothesis_id = kNoLocation;
   first.times.total_ms = 12.5;
+  first.times.cpu_ms = 5.25;
   Result second;
   second.image_index = 3;
   second.location_id = 4;
@@ -39,6 +40,7 @@ TEST(RunCsvTest, WrittenRowsReadBack) {
   EXPECT_EQ(rows[0].name, "a, \"quoted\".png");
   EXPECT_TRUE(rows[0].matched_images.empty());
   EXPECT_EQ(rows[0].iteration_ms, 12.5);
+  EXPECT_EQ(rows[0].cpu_ms, 5.25);
   EXPECT_EQ(rows[1].image, 3);
   EXPECT_EQ(rows[1].matched_images, (std::vector<ImageIndex>{0, 1}));
   EXPECT_EQ(rows[1].hypothesis_value, 0.375);

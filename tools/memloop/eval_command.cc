@@ -57,6 +57,9 @@ nlohmann::json ToJson(const RunEvaluation& e, const GroundTruth& truth, bool ign
             {"percent_over_time_limit", 100 * e.FractionOverTimeLimit()},
             {"max_over_time_limit", e.max_over_time_limit},
             {"median_fixed_s", e.median_fixed_ms / 1000},
+            {"median_cpu_share",
+             e.median_cpu_share < 0 ? nlohmann::json(nullptr) : nlohmann::json(e.median_cpu_share)},
+            {"over_time_limit_waiting", e.over_time_limit_waiting},
             {"precision_percent", 100 * e.accepted.Precision()},
             {"recall_percent", 100 * e.accepted.Recall()}}},
           {"curve", curve}};
@@ -88,6 +91,16 @@ void PrintText(const RunEvaluation& e, const GroundTruth& truth, const std::stri
         "floor under T_time x memory.time_target)\n",
         e.time_limit_ms, e.median_iteration_ms, e.iterations_over_time_limit,
         100 * e.FractionOverTimeLimit(), e.max_over_time_limit, e.median_fixed_ms);
+    if (e.median_cpu_share >= 0) {
+      std::printf(
+          "detector's thread on the CPU: median %.0f%% of an iteration | over T_time with it on "
+          "the CPU under %.0f%% of the time (waiting for the CPU, the search's helper thread or "
+          "the disk): %d%s\n",
+          100 * e.median_cpu_share, 100 * kWaitedCpuShare, e.over_time_limit_waiting,
+          e.median_cpu_share < kWaitedCpuShare
+              ? " | other programs shared the CPU: --realtime-priority gives it to the detector"
+              : "");
+    }
   }
 }
 

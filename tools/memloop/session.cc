@@ -21,6 +21,7 @@
 #include "interrupt.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
+#include "memloop/evaluation.h"
 #include "memloop/realtime.h"
 #include "memloop/run_csv.h"
 #include "progress.h"
@@ -310,6 +311,27 @@ std::string TightTimeLimitWarning(const SessionReport& report) {
       std::ceil(floor_ms / report.time_target));
 }
 
+// A line when iterations passed T_time while the detector's thread was mostly off the CPU (issue
+// 37): other programs at the same priority share the cores, and no transfer makes up for the
+// time the images wait for them.
+std::string CpuWaitWarning(const SessionReport& report) {
+  if (report.time_limit_ms <= 0) return "";
+  int over = 0;
+  std::vector<std::pair<double, double>> cpu_and_wall;
+  for (const Result& result : report.results) {
+    over += result.times.total_ms > report.time_limit_ms;
+    cpu_and_wall.emplace_back(result.times.cpu_ms, result.times.total_ms);
+  }
+  const double share = MedianCpuShare(cpu_and_wall);
+  if (over == 0 || share < 0 || share >= kWaitedCpuShare) return "";
+  return fmt::format(
+      "\nwarning: {} iterations over T_time {:g} ms while the detector's thread was on the CPU "
+      "a median {:.0f}% of each iteration: other programs share the cores and the images wait "
+      "for them, whatever WM holds; --realtime-priority N gives the detector the CPU first "
+      "(docs/cli.md), or give T_time more room",
+      over, report.time_limit_ms, 100 * share);
+}
+
 }  // namespace
 
 std::string Summary(const SessionReport& report) {
@@ -334,7 +356,7 @@ std::string Summary(const SessionReport& report) {
                 max_words);
   std::string summary = text;
   if (report.dropped > 0) summary += fmt::format("; camera frames dropped: {}", report.dropped);
-  return summary + TightTimeLimitWarning(report);
+  return summary + TightTimeLimitWarning(report) + CpuWaitWarning(report);
 }
 
 }  // namespace memloop::cli
