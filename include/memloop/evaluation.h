@@ -84,7 +84,7 @@ struct RunEvaluation {
 // is near 1 when the thread had a core; an iteration that took longer while its thread ran less
 // than this share of it waited: for the CPU (other programs at the same priority), the search's
 // helper thread or the disk, not for the detector's own work (issue 37). Measured, 6,300
-// generated images at a tight T_time: median 0.93-0.94 on a quiet 2-core machine, 0.29-0.33 with
+// generated images at a tight T_time: median 0.93-0.94 on a quiet 2-core machine, 0.29-0.35 with
 // another program's two busy loops (0.96 with them under a real-time priority).
 constexpr double kWaitedCpuShare = 0.5;
 
