@@ -9,7 +9,8 @@
 # Environment: LOAD=N busy loops beside the detector during calibration and run (another job
 # loading the cores; 0 = quiet), REALTIME_PRIORITY=N (--realtime-priority N for both), PACE=1
 # (images at a camera's pace of one per T_time), BUILD_DIR=build, MIN_AGE=3000, KEEP=folder (each
-# run's CSV, log and summary kept there as run1/, run2/, ...).
+# run's CSV, log and summary kept there as run1/, run2/, ...), SETS="name=value ..." (given to the
+# run under T_time, e.g. SETS=memory.over_time_goal=0).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -27,7 +28,7 @@ priority=()
 [ -n "${REALTIME_PRIORITY:-}" ] && priority=(--realtime-priority "$REALTIME_PRIORITY")
 
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
-echo "load: $load busy loops${REALTIME_PRIORITY:+; --realtime-priority $REALTIME_PRIORITY}${PACE:+; paced at 1/T_time}"
+echo "load: $load busy loops${REALTIME_PRIORITY:+; --realtime-priority $REALTIME_PRIORITY}${PACE:+; paced at 1/T_time}${SETS:+; --set $SETS}"
 echo
 echo "| run | T_time ms | over T_time | longest / T_time | revisits found | false pos. | thread on the CPU | within the bound |"
 echo "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |"
@@ -46,7 +47,7 @@ t = [float(r['iteration_ms']) for r in csv.DictReader(open('$out/calibrate.csv')
 print(round(2 * statistics.median(t), 1))")
   pace=()
   [ -n "${PACE:-}" ] && pace=(PACE_HZ="$(python3 -c "print(round(1000 / $ttime, 2))")")
-  env RUNS=time TTIME_MS="$ttime" MIN_AGE="$min_age" BUILD_DIR="$build" OUT="$out/run" \
+  env RUNS=time TTIME_MS="$ttime" MIN_AGE="$min_age" BUILD_DIR="$build" OUT="$out/run" SETS="${SETS:-}" \
     ${pace[@]+"${pace[@]}"} bench/scale.sh 600 >"$out/run.md" 2>/dev/null
   stop_load
   python3 - "$out/run.md" "$out/run/time.csv" "$ttime" "$run" <<'PY'

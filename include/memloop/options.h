@@ -133,6 +133,13 @@ struct MemoryOptions {
   // the time left, down to this many; only then are features dropped. 0: always the
   // dictionary's (features dropped first).
   int signature_min_checks = 8;
+  // With signature_within_time and T_time on: the share of iterations that may pass T_time. The
+  // quantization's deadline adapts to it (memloop, issue 37: on a machine other programs load,
+  // an iteration's time varies more than its steps' estimates say): each iteration over T_time
+  // brings it 10% of the time target earlier, each within moves it back by that x goal / (1 -
+  // goal), so that over T_time the share of iterations over it is the goal; never later than the
+  // time target, never earlier than half of it. 0: the time target alone.
+  double over_time_goal = 0.005;
   // Deterministic budget: transfer while WM holds more locations than this (0 = no budget).
   int max_wm_locations = 0;
   // Deterministic budget: transfer while the dictionary holds more words than this (0 = none).

@@ -518,6 +518,7 @@ class Detector::Impl {
     result.times.ltm_read_ms = ltm_.TakeFileReadMs();
     result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;
     result.times.total_ms = iteration.ElapsedMs();
+    signature_budget_.RecordIteration(result.times.total_ms);
   }
 
   Options options_;

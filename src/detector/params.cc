@@ -121,6 +121,8 @@ std::vector<Parameter> MakeRegistry() {
         .Help("With memory.signature_within_time: after an iteration that deferred a retrieval for lack of time, the next image's features are quantized only while the deferred locations and the transfer after them still fit under T_time (fewer features, at least memory.signature_min_share), so that the place recognized comes back before the robot has moved on (false = the time target alone)"),
     Param("memory.signature_min_checks", MEMLOOP_FIELD(memory.signature_min_checks)).Unit("leaves")
         .Range(0, 100000).Help("With memory.signature_within_time: when an image's features would not all be quantized by the time target, their kd-forest search visits fewer leaves than dictionary.kd_checks (in proportion to the time left), down to this many, before any feature is dropped (0 = always dictionary.kd_checks)"),
+    Param("memory.over_time_goal", MEMLOOP_FIELD(memory.over_time_goal)).Range(0, 0.5)
+        .Help("With memory.signature_within_time: the share of iterations that may pass T_time; the quantization's deadline moves 10% of the time target earlier after each iteration over T_time and back by that x goal / (1 - goal) after each within, between half the time target and the target, so that iterations pass T_time at this rate when the machine varies more than the steps' estimates (0 = the time target alone)"),
     Param("memory.max_wm_locations", MEMLOOP_FIELD(memory.max_wm_locations)).Unit("locations")
         .Range(0, kHuge).Help("Deterministic budget: transfer while WM is larger (0 = none)"),
     Param("memory.max_dictionary_words", MEMLOOP_FIELD(memory.max_dictionary_words)).Unit("words")

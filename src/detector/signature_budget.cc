@@ -21,7 +21,15 @@ SignatureBudget::SignatureBudget(const MemoryOptions& memory, int search_threads
     target_ms_ = memory.time_target * memory.time_limit_ms;
     limit_ms_ = memory.time_limit_ms;
     room_for_retrieval_ = memory.signature_room_for_retrieval != 0;
+    over_time_goal_ = memory.over_time_goal;
   }
+}
+
+void SignatureBudget::RecordIteration(double ms) {
+  if (!enabled() || over_time_goal_ <= 0) return;
+  const bool over = ms > limit_ms_;
+  target_scale_ += kTargetStep * (over ? -(1 - over_time_goal_) : over_time_goal_);
+  target_scale_ = std::clamp(target_scale_, kMinTargetScale, 1.0);
 }
 
 SearchGate SignatureBudget::Gate(size_t features, std::function<double()> elapsed_ms,

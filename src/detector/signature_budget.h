@@ -72,10 +72,25 @@ class SignatureBudget {
   // the time target alone. Ignored when disabled.
   void LeaveRoom(double ms) { room_ms_ = room_for_retrieval_ ? ms : 0; }
 
+  // The whole iteration took `ms`: the time target moves towards the share of iterations over
+  // T_time that memory.over_time_goal allows (TargetMs).
+  void RecordIteration(double ms);
+
+  // The time target as the iterations over T_time have moved it: memory.time_target x T_time x
+  // a scale in [kMinTargetScale, 1], lowered by kTargetStep x (1 - goal) after each iteration
+  // over T_time and raised by kTargetStep x goal after each within (1 when the goal is 0). The
+  // scale then settles where a share `goal` of the iterations passes T_time: a stochastic
+  // approximation of that quantile of the iteration's time, whatever makes it vary (other
+  // programs, a busy core, the steps' own spread).
+  double TargetMs() const { return target_ms_ * target_scale_; }
+  double target_scale() const { return target_scale_; }
+  static constexpr double kTargetStep = 0.1;
+  static constexpr double kMinTargetScale = 0.5;
+
   // The last feature may be taken by then: the time target, or T_time less the room asked for
   // when that is earlier, minus what the steps after the quantization are expected to take.
   double DeadlineMs() const {
-    return std::min(target_ms_, limit_ms_ - room_ms_) - after_.expected_ms();
+    return std::min(TargetMs(), limit_ms_ - room_ms_) - after_.expected_ms();
   }
   // One chunk's expected time on one thread.
   double ChunkMs() const { return row_.expected_ms() * WordIndex::kSearchChunk; }
@@ -90,6 +105,8 @@ class SignatureBudget {
   double target_ms_ = 0;       // 0: disabled
   double limit_ms_ = 0;        // T_time
   double room_ms_ = 0;         // LeaveRoom
+  double over_time_goal_ = 0;  // memory.over_time_goal
+  double target_scale_ = 1;    // TargetMs
   bool room_for_retrieval_ = false;
   double min_share_ = 1;
   int search_threads_ = 1;

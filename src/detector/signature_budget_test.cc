@@ -124,5 +124,41 @@ TEST(SignatureBudgetTest, SearchesOfFewerLeavesAreCountedAtTheDictionarysLeaves)
   EXPECT_FALSE(gate(112));  // 10.5 + 0.64 > 11
 }
 
+// Goal 1%, target 0.75 x 20 = 15 ms. An iteration over 20 ms brings the target 0.1 x 0.99 of it
+// earlier (scale 0.901: 13.515 ms), each one within moves it 0.1 x 0.01 = 0.001 back (99 of them:
+// 0.901 + 0.099 = 1); never past 1, never under 0.5 (seven over: 1 - 6.93 x 0.1 < 0.5).
+TEST(SignatureBudgetTest, TheTargetMovesToTheShareOfIterationsOverTimeAllowed) {
+  MemoryOptions memory = TimeLimit(20);
+  memory.over_time_goal = 0.01;
+  SignatureBudget budget(memory, 2);
+  EXPECT_DOUBLE_EQ(budget.TargetMs(), 15);
+  budget.RecordIteration(19.9);  // within: already at the target
+  EXPECT_DOUBLE_EQ(budget.target_scale(), 1);
+  budget.RecordIteration(20.5);
+  EXPECT_NEAR(budget.target_scale(), 0.901, 1e-12);
+  EXPECT_NEAR(budget.TargetMs(), 13.515, 1e-12);
+  EXPECT_NEAR(budget.DeadlineMs(), 13.515, 1e-12);  // nothing measured after the search
+  for (int i = 0; i < 98; ++i) budget.RecordIteration(12);
+  EXPECT_NEAR(budget.target_scale(), 0.999, 1e-9);
+  budget.RecordIteration(12);
+  budget.RecordIteration(12);
+  EXPECT_DOUBLE_EQ(budget.target_scale(), 1);
+  for (int i = 0; i < 7; ++i) budget.RecordIteration(25);
+  EXPECT_DOUBLE_EQ(budget.target_scale(), 0.5);
+  EXPECT_DOUBLE_EQ(budget.TargetMs(), 7.5);
+}
+
+// Goal 0 is the time target alone; without T_time nothing moves.
+TEST(SignatureBudgetTest, TheTargetStaysWithoutAGoalOrATimeLimit) {
+  MemoryOptions fixed = TimeLimit(20);
+  fixed.over_time_goal = 0;
+  SignatureBudget budget(fixed, 2);
+  budget.RecordIteration(40);
+  EXPECT_DOUBLE_EQ(budget.TargetMs(), 15);
+  SignatureBudget off(TimeLimit(0), 2);
+  off.RecordIteration(40);
+  EXPECT_DOUBLE_EQ(off.target_scale(), 1);
+}
+
 }  // namespace
 }  // namespace memloop

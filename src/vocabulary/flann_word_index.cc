@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
+#include "util/background_threads.h"
 #include "util/thread_name.h"
 #include "util/thread_priority.h"
 #include "util/work_team.h"
@@ -58,7 +59,10 @@ class FlannWordIndex : public WordIndex {
   FlannWordIndex(DescriptorKind kind, int dim, const DictionaryOptions& options)
       : WordIndex(kind, dim), options_(options), search_team_(options.search_threads) {}
   // A build running in the background reads buffers_: it ends before they go.
-  ~FlannWordIndex() override { pending_.reset(); }
+  ~FlannWordIndex() override {
+    background_.JoinAll();
+    pending_.reset();
+  }
 
   void Add(const std::vector<WordId>& ids, const cv::Mat& descriptors) override {
     assert(descriptors.type() == cv_type() && descriptors.cols == dim());
@@ -160,6 +164,7 @@ class FlannWordIndex : public WordIndex {
 
   void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) override {
     CheckHistory(history);
+    background_.JoinAll();  // a build reads buffers_
     pending_.reset();
     index_.reset();
     buffers_.clear();
@@ -374,18 +379,18 @@ class FlannWordIndex : public WordIndex {
     pending.catch_up_point = end;
     ++pending.rounds;
     std::vector<Element>* buffer = &pending.catch_up_buffers.emplace_back();
-    pending.caught_up = std::async(std::launch::async, [buffer, rows = std::move(rows), dim = dim(),
-                                                        built = std::move(built)]() mutable {
-      NameThisThread("catchup");
-      LowerThisThreadsPriority();
-      Built index = built.get();
-      *buffer = CopyRows(rows, dim);
-      if (!rows.empty()) {
-        index.index->addPoints(flann::Matrix<Element>(buffer->data(), rows.size(), dim),
-                               /*rebuild_threshold=*/1.0f);
-      }
-      return index;
-    });
+    pending.caught_up = background_.Start(
+        [buffer, rows = std::move(rows), dim = dim(), built = std::move(built)]() mutable {
+          NameThisThread("catchup");
+          LowerThisThreadsPriority();
+          Built index = built.get();
+          *buffer = CopyRows(rows, dim);
+          if (!rows.empty()) {
+            index.index->addPoints(flann::Matrix<Element>(buffer->data(), rows.size(), dim),
+                                   /*rebuild_threshold=*/1.0f);
+          }
+          return index;
+        });
   }
 
   // The live words in id order (so that the same history gives the same index) and where their
@@ -429,8 +434,7 @@ class FlannWordIndex : public WordIndex {
     pending_->buffer = std::move(buffer);  // its rows stay where they are for the new index
     std::vector<Element>* points = &pending_->buffer;               // written there, then read-only
     const std::vector<WordId>* words_of_points = &pending_->words;  // read-only while it runs
-    pending_->built = std::async(
-        std::launch::async,
+    pending_->built = background_.Start(
         [points, rows = std::move(rows), words_of_points, dim = dim(), options = options_] {
           NameThisThread("build");
           LowerThisThreadsPriority();  // the per-image thread comes first (thread_priority.h)
@@ -543,13 +547,13 @@ class FlannWordIndex : public WordIndex {
     std::swap(points_, built.points);
     // The old forest, map and buffers are freed off the iteration: in the task's body, for what it
     // captured is destroyed with the future, by whoever releases it last (Retire: this thread).
-    retired_ = std::async(std::launch::async,
-                          [old = std::move(built), old_buffers = std::move(buffers)]() mutable {
-                            NameThisThread("free");
-                            LowerThisThreadsPriority();
-                            old = Built();
-                            old_buffers.clear();
-                          });
+    retired_ =
+        background_.Start([old = std::move(built), old_buffers = std::move(buffers)]() mutable {
+          NameThisThread("free");
+          LowerThisThreadsPriority();
+          old = Built();
+          old_buffers.clear();
+        });
     std::vector<WordId> words = std::move(pending->words);
     words.insert(words.end(), point_words_.begin() + snapshot_point,
                  point_words_.begin() + next_point_);
@@ -597,8 +601,9 @@ class FlannWordIndex : public WordIndex {
   // catch-up rounds before it adds what is left anyway.
   static constexpr size_t kSwapMaxPoints = 1000;
   static constexpr int kMaxRounds = 8;
-  mutable WorkTeam search_team_;                // Search is const: it only reads the index
-  std::unique_ptr<PendingBuild> pending_;       // its destruction waits for the build thread
+  mutable WorkTeam search_team_;  // Search is const: it only reads the index
+  BackgroundThreads background_;  // builds, catch-ups and frees: joined before buffers_ go
+  std::unique_ptr<PendingBuild> pending_;
   std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending
   std::future<void> retired_;                   // the old forest being freed after a swap
   std::function<double()> swap_wait_ms_;        // SetSwapWait
