@@ -124,7 +124,11 @@ bool SearchStagedWords(RetrievalStaging::Staged& staged, const Dictionary& dicti
   return found.size() == words.size();
 }
 
-StagedWordSearch::StagedWordSearch() : worker_([this] { Loop(); }) {}
+StagedWordSearch::StagedWordSearch(std::function<void()> on_thread_start)
+    : worker_([this, on_thread_start = std::move(on_thread_start)] {
+        if (on_thread_start) on_thread_start();
+        Loop();
+      }) {}
 
 StagedWordSearch::~StagedWordSearch() {
   {
@@ -159,6 +163,7 @@ StagedWordSearch::Running StagedWordSearch::Start(RetrievalStaging& staging,
     found_.clear();
     stop_ = false;
     busy_ = true;
+    taken_ = false;
   }
   wake_.notify_all();
   return Running(this);
@@ -167,6 +172,10 @@ StagedWordSearch::Running StagedWordSearch::Start(RetrievalStaging& staging,
 void StagedWordSearch::Finish() {
   stop_ = true;
   std::unique_lock<std::mutex> lock(mutex_);
+  if (busy_ && !taken_) {  // not begun: called off
+    busy_ = false;
+    found_.clear();
+  }
   done_.wait(lock, [this] { return !busy_; });
   for (size_t i = 0; i < found_.size(); ++i) {
     RetrievalStaging::Staged* staged = staging_->Find(rows_[i].first);
@@ -190,6 +199,7 @@ void StagedWordSearch::Loop() {
   for (;;) {
     wake_.wait(lock, [this] { return quitting_ || busy_; });
     if (quitting_) return;
+    taken_ = true;
     const Dictionary* dictionary = dictionary_;
     const cv::Mat descriptors = descriptors_;
     const int checks = checks_;

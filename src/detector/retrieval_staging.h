@@ -18,6 +18,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -109,13 +110,16 @@ bool SearchStagedWords(RetrievalStaging::Staged& staged, const Dictionary& dicti
 // extraction does not touch the dictionary, and searches only read it. Used as
 //   { auto running = search.Start(staging, dictionary, ltm); Extract(image); }
 // the search stops when `running` goes (at the end of the chunk in flight), before anything
-// changes the dictionary, and its answers join their staged locations.
+// changes the dictionary, and its answers join their staged locations. A search its thread has
+// not begun by then is called off, not waited for: a thread asleep on an idle CPU can be slow to
+// wake (in a virtual machine here, 76 ms after it was woken: the image waited as long).
 class StagedWordSearch {
  public:
   // At most this many words a search (about an extraction's time on one thread).
   static constexpr size_t kMaxWords = 128;
 
-  StagedWordSearch();
+  // `on_thread_start` runs first on the search's thread (tests hold the thread there).
+  explicit StagedWordSearch(std::function<void()> on_thread_start = {});
   ~StagedWordSearch();
   StagedWordSearch(const StagedWordSearch&) = delete;
   StagedWordSearch& operator=(const StagedWordSearch&) = delete;
@@ -154,6 +158,7 @@ class StagedWordSearch {
   std::condition_variable done_;
   std::atomic<bool> stop_{false};
   bool busy_ = false;
+  bool taken_ = false;  // the thread has begun the current search (Finish)
   bool quitting_ = false;
   // The current search: what to search, and for whom.
   const Dictionary* dictionary_ = nullptr;

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <future>
 #include <limits>
+#include <mutex>
 #include <thread>
 
 #include "detector/retrieval.h"
@@ -336,6 +340,39 @@ TEST_F(RetrievalStagingTest, SearchBesideTheExtractionGivesTheSameAnswers) {
   // Nothing left to search: nothing is started.
   { const auto running = search.Start(staging_, memory_.dictionary(), *ltm_); }
   EXPECT_EQ(search.words_searched(), 2);
+}
+
+// A search its thread has not begun when the extraction ends is called off, not waited for: the
+// thread is held before it can take it, and the image goes on. Once free, the thread takes the next
+// search as usual.
+TEST_F(RetrievalStagingTest, SearchNotBegunWhenTheExtractionEndsIsCalledOff) {
+  RetrievalStaging::Staged& staged = Stage(ids_[2]);
+  staged.matches.clear();
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  StagedWordSearch search([released] { released.wait(); });
+  // Were the image to wait for the held thread, the release below would free it after 30 s, and
+  // the search would have run: the test fails instead of hanging.
+  std::once_flag once;
+  const auto free_the_thread = [&] { std::call_once(once, [&] { release.set_value(); }); };
+  std::atomic<bool> freed_by_failsafe{false};
+  std::thread failsafe([&] {
+    if (released.wait_for(std::chrono::seconds(30)) == std::future_status::ready) return;
+    freed_by_failsafe = true;
+    free_the_thread();
+  });
+  { const auto running = search.Start(staging_, memory_.dictionary(), *ltm_); }
+  EXPECT_FALSE(freed_by_failsafe) << "the image waited for a search not begun";
+  EXPECT_EQ(search.words_searched(), 0);
+  EXPECT_TRUE(staged.matches.empty());
+  free_the_thread();
+  failsafe.join();
+  {
+    auto running = search.Start(staging_, memory_.dictionary(), *ltm_);
+    running.WaitUntilSearched();
+  }
+  EXPECT_EQ(search.words_searched(), 2);
+  EXPECT_EQ(staged.matches.size(), 2u);
 }
 
 }  // namespace

@@ -463,6 +463,38 @@ TEST_P(WordIndexReplayTest, ReplayDuringABackgroundRebuildGoesOnAsTheOriginal) {
   }
 }
 
+// Between the catch-up and the swap, rounds catch up the points that came meanwhile, as many as
+// the build thread's speed allows (a round starts when the last one has ended). Only where the
+// batches split depends on it: the forest answers as a replay of the same points with everything
+// after the snapshot in one batch, however many rounds there were.
+TEST_P(WordIndexReplayTest, RoundsBeforeTheSwapGiveTheIndexOfOneCatchUp) {
+  const DescriptorKind kind = GetParam();
+  const int dim = kind == DescriptorKind::kFloat ? 16 : 32;
+  DictionaryOptions options;
+  options.kd_checks = 4;
+  options.rebuild_delay = 12;
+  auto original = WordIndex::Create(kind, dim, options);
+  original->Add(Ids(1, 300), Points(kind, 300, dim, 81));
+  original->Add(Ids(301, 301), Points(kind, 301, dim, 82));  // starts the build
+  std::vector<WordId> live = Ids(1, 601);
+  for (int age = 1; age <= 12; ++age) {
+    const std::vector<WordId> ids = Ids(1000 + 150 * age, 150);
+    original->Add(ids, Points(kind, 150, dim, 82 + age));
+    live.insert(live.end(), ids.begin(), ids.end());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // time for a round, if it runs
+  }
+  ASSERT_EQ(original->build_count(), 2);
+  const IndexHistory history = original->History(0);
+  RecordProperty("batches_after_the_snapshot", static_cast<int>(history.batch_starts.size()) - 1);
+  IndexHistory one_catch_up = history;
+  one_catch_up.batch_starts = {0, history.size_at_build};
+  auto replayed = WordIndex::Create(kind, dim, options);
+  replayed->Replay(one_catch_up, live);
+  EXPECT_EQ(history.size_at_build, 601u);
+  EXPECT_EQ(replayed->size(), original->size());
+  ExpectSameSearches(*original, *replayed, Points(kind, 300, dim, 99));
+}
+
 TEST_P(WordIndexReplayTest, HistoryFromAPointHoldsOnlyTheLaterPoints) {
   const DescriptorKind kind = GetParam();
   auto index = WordIndex::Create(kind, 32, DictionaryOptions());
