@@ -351,8 +351,8 @@ TEST_F(RetrievalStagingTest, SearchNotBegunWhenTheExtractionEndsIsCalledOff) {
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   StagedWordSearch search([released] { released.wait(); });
-  // Were the image to wait for the held thread, the release below would free it after 30 s, and
-  // the search would have run: the test fails instead of hanging.
+  // Were the image to wait for the held thread, only the failsafe would free it (after 30 s): the
+  // test then fails instead of hanging.
   std::once_flag once;
   const auto free_the_thread = [&] { std::call_once(once, [&] { release.set_value(); }); };
   std::atomic<bool> freed_by_failsafe{false};

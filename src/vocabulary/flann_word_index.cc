@@ -618,7 +618,7 @@ class FlannWordIndex : public WordIndex {
 
   DictionaryOptions options_;
   // The most points the swap adds itself (about 2 ms; 10,000-20,000 took 45-62 ms), and the most
-  // catch-up rounds before it adds what is left anyway.
+  // late catch-up rounds (CatchUpAgain) before it adds what is left anyway.
   static constexpr size_t kSwapMaxPoints = 1000;
   static constexpr int kMaxRounds = 8;
   // The fewest points a round between the catch-up and the swap takes (KeepCatchingUp): a round
