@@ -10,8 +10,10 @@ PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev li
 # Only the tests need a browser (they open `memloop report` in headless Chromium), pytest and
 # cv2 (the Python module's tests read images as a user's script does).
 TEST_PACKAGES := chromium python3-pytest python3-opencv
+# Only bench/tight_time.sh's PAUSES needs oslat (the machine's own pauses).
+BENCH_PACKAGES := rt-tests
 
-.PHONY: all deps test-deps install-packages configure build demo test bench docs format clean
+.PHONY: all deps test-deps bench-deps install-packages configure build demo test bench docs format clean
 
 all: build
 
@@ -21,6 +23,9 @@ deps:
 
 test-deps:
 	@$(MAKE) --no-print-directory install-packages WANTED="$(TEST_PACKAGES)"
+
+bench-deps:
+	@$(MAKE) --no-print-directory install-packages WANTED="$(BENCH_PACKAGES)"
 
 install-packages:
 	@missing=""; for package in $(WANTED); do \

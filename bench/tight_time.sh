@@ -10,7 +10,12 @@
 # loading the cores; 0 = quiet), REALTIME_PRIORITY=N (--realtime-priority N for both), PACE=1
 # (images at a camera's pace of one per T_time), BUILD_DIR=build, MIN_AGE=3000, KEEP=folder (each
 # run's CSV, log and summary kept there as run1/, run2/, ...), SETS="name=value ..." (given to the
-# run under T_time, e.g. SETS=memory.over_time_goal=0).
+# run under T_time, e.g. SETS=memory.over_time_goal=0), PAUSES=SECONDS (after the runs, the
+# machine's own pauses: oslat, Debian's rt-tests, spins a thread on each CPU of the quiet machine
+# and reports the longest it went without running; no detector ends an iteration before the
+# machine resumes it. Quiet and at the usual priority: beside busy loops it would time the
+# scheduler's turns, and under a real-time priority Linux's throttling of real-time threads, 50
+# ms a second by default).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -26,6 +31,16 @@ stop_load() {
 trap 'stop_load; rm -rf "$out"' EXIT
 priority=()
 [ -n "${REALTIME_PRIORITY:-}" ] && priority=(--realtime-priority "$REALTIME_PRIORITY")
+if [ -n "${PAUSES:-}" ] && ! command -v oslat >/dev/null; then
+  echo "tight_time.sh: PAUSES needs oslat, from Debian's rt-tests (make bench-deps)" >&2
+  exit 1
+fi
+start_load() {
+  for _ in $(seq 1 "$load"); do
+    bash -c 'while :; do :; done' &
+    loops+=($!)
+  done
+}
 
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 echo "load: $load busy loops${REALTIME_PRIORITY:+; --realtime-priority $REALTIME_PRIORITY}${PACE:+; paced at 1/T_time}${SETS:+; --set $SETS}"
@@ -33,10 +48,7 @@ echo
 echo "| run | T_time ms | over T_time | longest / T_time | revisits found | false pos. | thread on the CPU | within the bound |"
 echo "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |"
 for run in $(seq 1 "$runs"); do
-  for _ in $(seq 1 "$load"); do
-    bash -c 'while :; do :; done' &
-    loops+=($!)
-  done
+  start_load
   rm -f "$out"/calibrate.*
   "$build/memloop" demo --places 100 --frames-per-place 10 --revisit-every 10 \
     --min-revisit-age "$min_age" --set memory.time_limit_ms=0 ${priority[@]+"${priority[@]}"} \
@@ -69,3 +81,15 @@ PY
   fi
   rm -rf "$out/run"
 done
+
+if [ -n "${PAUSES:-}" ]; then
+  oslat --cpu-list "0-$(($(nproc) - 1))" --duration "$PAUSES" --quiet --json="$out/oslat.json" \
+    >/dev/null
+  python3 - "$out/oslat.json" "$PAUSES" <<'PY'
+import json, sys
+threads = json.load(open(sys.argv[1]))["thread"]
+longest = ", ".join(f"{threads[cpu]['max'] / 1000:.1f} ms on CPU {cpu}" for cpu in sorted(threads, key=int))
+print(f"\nThe machine's own pauses (oslat, {sys.argv[2]} s, a thread spinning on each CPU of the quiet "
+      f"machine): longest {longest}")
+PY
+fi

@@ -3,11 +3,42 @@
 // the same points differ, flann::seed_random cannot help, and two runs of the same images give
 // different words. While FLANN's headers are read, random_device is renamed to minstd_rand0, a
 // standard engine whose default seed is fixed: every build shuffles the same way, and the rest of
-// FLANN's randomness (std::rand) is seeded by flann::seed_random. Include FLANN only through here.
+// FLANN's randomness (std::rand) is seeded by flann::seed_random. Include FLANN only through here,
+// and build an index with BuildIndex.
 #pragma once
 
+#include <memory>
+#include <mutex>
 #include <random>
 
 #define random_device minstd_rand0
 #include <flann/flann.hpp>
 #undef random_device
+
+#include "memloop/options.h"
+
+namespace memloop {
+
+inline flann::IndexParams IndexParams(const flann::L2<float>&, const DictionaryOptions& options) {
+  return flann::KDTreeIndexParams(options.kd_trees);
+}
+inline flann::IndexParams IndexParams(const flann::Hamming<unsigned char>&,
+                                      const DictionaryOptions& options) {
+  return flann::LshIndexParams(options.lsh_tables, options.lsh_key_bits, options.lsh_probe_level);
+}
+
+// A FLANN index built over `points` with the dictionary's seed. FLANN draws its splits from
+// std::rand, which is process-wide: builds (in the background or not, of any index) take turns so
+// that each draws an unbroken sequence from its seed.
+template <typename Distance>
+std::unique_ptr<flann::Index<Distance>> BuildIndex(
+    const flann::Matrix<typename Distance::ElementType>& points, const DictionaryOptions& options) {
+  static std::mutex build_mutex;
+  const std::lock_guard<std::mutex> lock(build_mutex);
+  flann::seed_random(options.seed);
+  auto index = std::make_unique<flann::Index<Distance>>(points, IndexParams(Distance(), options));
+  index->buildIndex();
+  return index;
+}
+
+}  // namespace memloop

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <deque>
 #include <future>
-#include <mutex>
 #include <unordered_map>
 
 #include "memloop/errors.h"
@@ -13,6 +12,7 @@
 #include "util/thread_priority.h"
 #include "util/work_team.h"
 #include "vocabulary/flann_deterministic.h"
+#include "vocabulary/index_history.h"
 #include "vocabulary/point_map.h"
 #include "vocabulary/word_index.h"
 
@@ -24,28 +24,6 @@ float TrueDistance(const flann::L2<float>&, float squared) {
 }
 float TrueDistance(const flann::Hamming<unsigned char>&, unsigned int bits) {
   return static_cast<float>(bits);
-}
-
-flann::IndexParams IndexParams(const flann::L2<float>&, const DictionaryOptions& options) {
-  return flann::KDTreeIndexParams(options.kd_trees);
-}
-flann::IndexParams IndexParams(const flann::Hamming<unsigned char>&,
-                               const DictionaryOptions& options) {
-  return flann::LshIndexParams(options.lsh_tables, options.lsh_key_bits, options.lsh_probe_level);
-}
-
-// A FLANN index built over `points` with the dictionary's seed. FLANN draws its splits from
-// std::rand, which is process-wide: builds (in the background or not, of any index) take turns so
-// that each draws an unbroken sequence from its seed.
-template <typename Distance>
-std::unique_ptr<flann::Index<Distance>> BuildIndex(
-    const flann::Matrix<typename Distance::ElementType>& points, const DictionaryOptions& options) {
-  static std::mutex build_mutex;
-  const std::lock_guard<std::mutex> lock(build_mutex);
-  flann::seed_random(options.seed);
-  auto index = std::make_unique<flann::Index<Distance>>(points, IndexParams(Distance(), options));
-  index->buildIndex();
-  return index;
 }
 
 // FLANN index over the words, with the words' descriptors owned here: FLANN keeps pointers into
@@ -167,7 +145,7 @@ class FlannWordIndex : public WordIndex {
   }
 
   void Replay(const IndexHistory& history, const std::vector<WordId>& live_words) override {
-    CheckHistory(history);
+    CheckIndexHistory(history, dim(), cv_type());
     background_.JoinAll();  // a build reads buffers_
     pending_.reset();
     index_.reset();
@@ -189,17 +167,10 @@ class FlannWordIndex : public WordIndex {
         Build(points);
       }
     }
-    std::unordered_map<WordId, size_t> latest_point;
-    std::unordered_map<WordId, size_t> latest_point_before;  // the pending build's snapshot
-    for (size_t point = 0; point < history.point_count; ++point) {
-      latest_point[history.point_words[point]] = point;
-      if (history.pending && point < history.pending_point) {
-        latest_point_before[history.point_words[point]] = point;
-      }
-    }
+    const LatestPoints latest = LatestPointsOf(history);
     for (WordId word : live_words) {
-      const auto found = latest_point.find(word);
-      if (found == latest_point.end()) {
+      const auto found = latest.overall.find(word);
+      if (found == latest.overall.end()) {
         throw Error("word " + std::to_string(word) + " is not in the dictionary's index history");
       }
       points_.Set(word, found->second);
@@ -213,7 +184,7 @@ class FlannWordIndex : public WordIndex {
     size_at_build_ = history.size_at_build;
     changes_since_build_ = history.changes_since_build;
     build_count_ = history.build_count;
-    if (history.pending) ReplayPendingBuild(history, latest_point_before);
+    if (history.pending) ReplayPendingBuild(history, latest.before_pending);
   }
 
   std::vector<std::array<Neighbour, 2>> Search(const cv::Mat& queries,
@@ -263,24 +234,6 @@ class FlannWordIndex : public WordIndex {
   const Element* Point(WordId id) const {
     const size_t point = points_.PointOf(id);
     return point == PointMap::kNoPoint ? nullptr : index_->getPoint(point);
-  }
-
-  void CheckHistory(const IndexHistory& history) const {
-    bool valid = history.first_point == 0 && history.point_words.size() == history.point_count &&
-                 static_cast<size_t>(history.descriptors.rows) == history.point_count &&
-                 (history.point_count == 0 ||
-                  (history.descriptors.type() == cv_type() && history.descriptors.cols == dim() &&
-                   history.descriptors.isContinuous())) &&
-                 (history.point_count == 0) == history.batch_starts.empty();
-    for (size_t batch = 0; valid && batch < history.batch_starts.size(); ++batch) {
-      const size_t start = history.batch_starts[batch];
-      valid = start < history.point_count &&
-              (batch == 0 ? start == 0 : start > history.batch_starts[batch - 1]);
-    }
-    valid = valid && (!history.pending ||
-                      (history.pending_point <= history.point_count && history.pending_age >= 0 &&
-                       std::is_sorted(history.pending_words.begin(), history.pending_words.end())));
-    if (!valid) throw Error("the dictionary's index history is inconsistent");
   }
 
   void Build(const flann::Matrix<Element>& points) {

@@ -13,29 +13,9 @@
 #include "memloop/feature_extractor.h"
 #include "memloop/options.h"
 #include "memloop/types.h"
+#include "vocabulary/index_history.h"
 
 namespace memloop {
-
-// What the index was given since its last full build, enough to rebuild it exactly: FLANN's trees
-// depend on the order points came in (and on points removed since), not only on the live words.
-// Resuming a map (checkpoint.h) stores it and replays it.
-struct IndexHistory {
-  int build_count = 0;
-  size_t size_at_build = 0;
-  size_t changes_since_build = 0;
-  std::vector<size_t> batch_starts;  // first point of each Add since the build; [0] is the build
-  size_t point_count = 0;            // points since the build, removed ones included
-  size_t first_point = 0;            // point_words and descriptors start at this point
-  std::vector<WordId> point_words;
-  cv::Mat descriptors;  // one row per point from first_point
-  // A full build running in the background (DictionaryOptions::rebuild_delay): the live words
-  // when it started (sorted: its points; only in a complete history), point_count then, and the
-  // insertions since.
-  bool pending = false;
-  std::vector<WordId> pending_words;
-  size_t pending_point = 0;
-  int pending_age = 0;
-};
 
 // Between chunks of a search: whether to search more rows, given the rows taken so far.
 using SearchGate = std::function<bool(size_t rows_taken)>;
