@@ -1,5 +1,5 @@
-// The history of a dictionary's index since its last full build: what a checkpoint stores so that
-// a resumed map rebuilds the very same forest (checkpoint.h, WordIndex::Replay).
+// The history of a dictionary's index since its last full build, and what a replay
+// (WordIndex::Replay) checks and looks up in it.
 #pragma once
 
 #include <opencv2/core.hpp>
