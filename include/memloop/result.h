@@ -34,7 +34,8 @@ struct StageTimes {
   double ltm_read_ms = 0;
   // CPU time of the detector's thread over the iteration: total_ms minus this is time it did
   // not run (waiting for the search's other thread, the disk or the writer, or descheduled by
-  // the OS or a virtual machine's host), which tells a slow step from a stalled one.
+  // the OS), which tells a slow step from a stalled one. On a virtual machine, time the host
+  // stopped the virtual CPU may count as CPU time.
   double cpu_ms = 0;
   double total_ms = 0;  // the whole iteration
 };
