@@ -310,14 +310,16 @@ struct FilterOptions {
   // N_pair) with L_i (memloop); 0: the paper. One or two shared words are chance collisions in a
   // dictionary of 10^4-10^5 words, yet eq. 3 makes them "stand out" when every score is as low.
   int min_shared_words = 3;
-  // 1, with require_support: when Rehearsal gave L_t an older image's words (III-B: "z_t is
-  // cleared and z_c is copied into z_t"), the image's own words must also share min_shared_words
-  // words with L_i and score at least eq. 3's mu (of z_t's scores) against it: a camera turning
-  // away keeps merging into the older signature, and the filter would otherwise accept a place
-  // the older image saw and the image no longer does (memloop, in --preset hand-held). 0: z_t
-  // only, the paper and the default: on generated forward-moving routes it costs recall under WM
-  // budgets (docs/design.md).
-  int support_from_image = 0;
+  // With require_support, when Rehearsal gave L_t an older image's words (III-B: "z_t is cleared
+  // and z_c is copied into z_t"), the image's own words must support the loop closure too
+  // (min_shared_words shared, eq. 1 score >= eq. 3's mu): a camera turning away keeps merging
+  // into the older signature, and the filter would otherwise accept a place the older image saw
+  // and the image no longer does. 2 (the default): they must support L_i or a WM location linked
+  // to it, and the loop closure names the one they support best, L_i first (the filter's mass
+  // spreads over L_i's neighbours; the merged words say which neighbourhood, the image's own
+  // words where in it). 1: L_i only (on generated forward-moving routes it costs recall under WM
+  // budgets). 0: z_t only, the paper (memloop; docs/design.md).
+  int support_from_image = 2;
   // 1: when Rehearsal gave L_t an older image's words (III-B), the filter observes words it has
   // already observed, and a value that rises then rises on the same evidence counted again: the
   // value compared with T_loop is at most the previous image's. A merged image keeps a loop

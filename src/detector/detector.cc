@@ -369,6 +369,7 @@ class Detector::Impl {
     ScopedTimer timer(&result.times.selection_ms);
     Hypothesis hypothesis = SelectHypothesis(filter_.posterior(), filter_.virtual_place(),
                                              neighbourhoods, selection_options_);
+    hypothesis.filter_id = hypothesis.id;
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
     acceptance_.Check({z_t, view, result.rehearsal_merged_id != kNoLocation,
                        image_words_ ? &*image_words_ : nullptr, likelihood, appearance},
@@ -421,8 +422,10 @@ class Detector::Impl {
   // that matched them.
   void AbsorbPastMatches(const Hypothesis& hypothesis, const Neighbourhoods& neighbourhoods) {
     std::set<LocationId> near_highest;
-    if (hypothesis.id != kNoLocation) {
-      for (const auto& entry : neighbourhoods.at(hypothesis.id)) near_highest.insert(entry.first);
+    if (hypothesis.filter_id != kNoLocation) {
+      for (const auto& entry : neighbourhoods.at(hypothesis.filter_id)) {
+        near_highest.insert(entry.first);
+      }
     }
     editor_.AbsorbPastMatches(near_highest);
   }
@@ -442,7 +445,7 @@ class Detector::Impl {
     // the time (words transferred = words added).
     const double transfer_ms = transfer_step_cost_.expected_ms();
     const std::vector<LocationId> retrieved = retrieval_.Retrieve(
-        above_noise ? hypothesis.id : kNoLocation, MatchByAppearance(appearance, result),
+        above_noise ? hypothesis.filter_id : kNoLocation, MatchByAppearance(appearance, result),
         [&](StepCost* cost) { return DeadlineOf(iteration, cost, transfer_ms); }, result);
     for (LocationId id : retrieved) {
       filter_.Add(id);  // a new state, probability 0
@@ -491,9 +494,10 @@ class Detector::Impl {
     transfer_step_cost_.Record(stopwatch.ElapsedMs());
   }
 
-  // The highest hypothesis' WM neighbourhood, retrieved locations included, leaves WM last, so
-  // that a place being recognized keeps its neighbours until the filter has decided (memloop;
-  // the paper transfers them by weight and age like any other: memory.protect_hypothesis = 0).
+  // The hypothesis' WM neighbourhood (around the place it names), retrieved locations included,
+  // leaves WM last, so that a place being recognized keeps its neighbours until the filter has
+  // decided (memloop; the paper transfers them by weight and age like any other:
+  // memory.protect_hypothesis = 0).
   // So do the locations just retrieved (memory.retrieved_kept_last_iterations): the highest
   // hypothesis may be a chance one for an image or two of a revisit.
   std::set<LocationId> KeptLast(const Hypothesis& hypothesis) const {

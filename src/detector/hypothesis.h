@@ -16,6 +16,9 @@ struct Hypothesis {
   double value = 0;             // compared with T_loop (FilterOptions::hypothesis_value)
   bool eligible = false;        // WM holds at least T_minHyp locations: T_loop alone decides
   bool accepted = false;        // eligible and value > T_loop
+  // The filter's highest hypothesis, which retrieval (III-E) and the past matches follow; `id`
+  // may instead name a WM location linked to it (filter.support_from_image 2).
+  LocationId filter_id = kNoLocation;
 
   // A check beside T_loop refused it: not accepted at any threshold.
   void Refuse() { eligible = accepted = false; }

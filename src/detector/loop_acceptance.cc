@@ -47,10 +47,10 @@ void LoopAcceptance::RequireSupport(const Image& image, Hypothesis& hypothesis) 
                             options_.filter.whole_image_support_z)) {
     return agreement_.Require(memory_, options_.filter.neighbour_range, hypothesis);
   }
-  if (!SupportedByWords(image.view, image.likelihood, hypothesis.id) ||
-      !SupportedByOwnWords(image, hypothesis.id)) {
-    hypothesis.Refuse();
-  }
+  if (!SupportedByWords(image.view, image.likelihood, hypothesis.id)) return hypothesis.Refuse();
+  const LocationId place = PlaceOfOwnWords(image, hypothesis.id);
+  if (place == kNoLocation) return hypothesis.Refuse();
+  hypothesis.id = place;
 }
 
 // The words' own eq. 3, without the whole-image channel's factor: a channel's look-alike with a
@@ -64,13 +64,28 @@ bool LoopAcceptance::SupportedByWords(const Signature& view, const Likelihood& l
 }
 
 // filter.support_from_image: after a Rehearsal merge z_t holds an older image's words; the
-// image's own must support L_i too (a rolled view is the image's own already).
-bool LoopAcceptance::SupportedByOwnWords(const Image& image, LocationId id) const {
-  if (!options_.filter.require_support || image.own_words == nullptr || &image.view != &image.z_t) {
-    return true;
+// image's own must support the place the loop closure names: L_i, or with 2 the WM location
+// linked to L_i they support best. kNoLocation when none is (a rolled view is the image's own).
+LocationId LoopAcceptance::PlaceOfOwnWords(const Image& image, LocationId id) const {
+  const FilterOptions& filter = options_.filter;
+  if (!filter.require_support || !filter.support_from_image || image.own_words == nullptr ||
+      &image.view != &image.z_t) {
+    return id;
   }
-  return SupportedByImage(*image.own_words, memory_.at(id).signature, image.likelihood.mean,
-                          options_.filter.min_shared_words);
+  const auto supports = [&](LocationId j) {
+    return SupportedByImage(*image.own_words, memory_.at(j).signature, image.likelihood.mean,
+                            filter.min_shared_words);
+  };
+  if (supports(id)) return id;
+  if (filter.support_from_image < 2) return kNoLocation;
+  LocationId best = kNoLocation;
+  double best_score = 0;
+  for (LocationId j : memory_.LinksOf(id)) {
+    if (!memory_.InWorkingMemory(j) || !supports(j)) continue;
+    const double score = Similarity(*image.own_words, memory_.at(j).signature);
+    if (score > best_score) best = j, best_score = score;
+  }
+  return best;
 }
 
 // verify.max_roll_degrees: the roll between the two views, from their shared words' positions.

@@ -35,7 +35,8 @@ class LoopAcceptance {
   void Observe(const Likelihood& likelihood);
 
   // The checks, in order: filter.cap_merged_images, support (filter.require_support,
-  // min_shared_words, support_from_image, the whole-image channel's agreement),
+  // min_shared_words, support_from_image, which may name a WM location linked to L_i instead of
+  // L_i, the whole-image channel's agreement),
   // verify.max_roll_degrees, filter.loop_ratio, filter.ltm_neighbour_check, epipolar
   // verification. `previous_value`: the previous image's value as compared with T_loop, updated
   // to this image's. `inliers` receives the epipolar inliers when verification ran.
@@ -45,7 +46,7 @@ class LoopAcceptance {
  private:
   void RequireSupport(const Image& image, Hypothesis& hypothesis) const;
   bool SupportedByWords(const Signature& view, const Likelihood& likelihood, LocationId id) const;
-  bool SupportedByOwnWords(const Image& image, LocationId id) const;
+  LocationId PlaceOfOwnWords(const Image& image, LocationId id) const;
   void RequireSimilarRoll(const Signature& view, Hypothesis& hypothesis) const;
   void CheckLtmNeighbours(const Appearance* appearance, Hypothesis& hypothesis) const;
   void Verify(const Signature& view, Hypothesis& hypothesis, int* inliers) const;

@@ -99,5 +99,49 @@ TEST_F(LoopAcceptanceTest, LinkedLocationInLtmRefusesWithoutDescriptionsToCompar
   EXPECT_FALSE(Check(0.2, false, previous).accepted);
 }
 
+// filter.support_from_image on an image Rehearsal merged into L1's words: its own words share
+// none with L1 but 3 of 4 with L2, linked to L1 (eq. 1: 3 / max(4, 4) = 0.75 >= mu 0.1).
+TEST(LoopAcceptanceOwnWordsTest, MergedImageNamesTheLinkedPlaceItsOwnWordsSupport) {
+  testing::SmallMap map;
+  const std::vector<LocationId> ids =
+      testing::AddChain(map.memory, {{1, 2, 3}, {4, 5, 6, 7}, {8, 9, 10, 11}});
+  map.memory.MoveStmOverflowToWm(0);
+  Options options;
+  options.filter.ltm_neighbour_check = 0;
+  Likelihood likelihood;
+  likelihood.values[ids[0]] = 2.0;  // eq. 3: L1 stands out for the merged words
+  likelihood.mean = 0.1;
+  const Signature z_t = testing::MakeSignature({1, 2, 3});  // L1's words, after the merge
+  const auto check = [&](const Signature& own) {
+    const LoopAcceptance acceptance(options, map.memory, map.ltm, nullptr);
+    Hypothesis hypothesis;
+    hypothesis.id = ids[0];
+    hypothesis.value = 0.2;
+    hypothesis.eligible = hypothesis.accepted = true;
+    double previous = 0;
+    int inliers = -1;
+    acceptance.Check({z_t, z_t, true, &own, likelihood, nullptr}, previous, hypothesis, &inliers);
+    return hypothesis;
+  };
+  const Signature sees_l2 = testing::MakeSignature({4, 5, 6, 12});
+  const Signature sees_l3 = testing::MakeSignature({8, 9, 10, 12});  // two links from L1
+
+  options.filter.support_from_image = 2;
+  Hypothesis hypothesis = check(sees_l2);
+  EXPECT_TRUE(hypothesis.accepted);
+  EXPECT_EQ(hypothesis.id, ids[1]);
+  EXPECT_FALSE(check(sees_l3).eligible);
+  hypothesis = check(testing::MakeSignature({1, 2, 3, 12}));  // its own words support L1 itself
+  EXPECT_TRUE(hypothesis.accepted);
+  EXPECT_EQ(hypothesis.id, ids[0]);
+
+  options.filter.support_from_image = 1;  // L1 alone: refused
+  EXPECT_FALSE(check(sees_l2).eligible);
+  options.filter.support_from_image = 0;  // the paper: the merged words decide
+  hypothesis = check(sees_l2);
+  EXPECT_TRUE(hypothesis.accepted);
+  EXPECT_EQ(hypothesis.id, ids[0]);
+}
+
 }  // namespace
 }  // namespace memloop

@@ -194,8 +194,8 @@ std::vector<Parameter> MakeRegistry() {
         .Symbol("eq. 3").Help("true: accept only a hypothesis whose own likelihood stands out this image (s >= mu + sigma), not one carried by the prior alone (false = the paper)"),
     Param("filter.min_shared_words", MEMLOOP_FIELD(filter.min_shared_words)).Unit("words").Range(0, 100000)
         .Symbol("eq. 1").Help("accept only a hypothesis L_i with which the image shares at least this many words (N_pair): one or two are chance collisions (0 = the paper)"),
-    Param("filter.support_from_image", MEMLOOP_FIELD(filter.support_from_image)).Flag()
-        .Symbol("III-B").Help("true, with filter.require_support: when Rehearsal gave the image's location an older image's words, the image's own words must support the hypothesis too (filter.min_shared_words shared, eq. 1 score >= eq. 3's mu)"),
+    Param("filter.support_from_image", MEMLOOP_FIELD(filter.support_from_image)).Range(0, 2)
+        .Symbol("III-B").Help("With filter.require_support, when Rehearsal gave the image's location an older image's words, the image's own words must support the loop closure too (filter.min_shared_words shared, eq. 1 score >= eq. 3's mu): 2 = L_i or a WM location linked to it, which the loop closure then names (the best supported, L_i first); 1 = L_i only; 0 = the merged words alone (the paper)"),
     Param("filter.cap_merged_images", MEMLOOP_FIELD(filter.cap_merged_images)).Flag()
         .Symbol("III-B, III-D").Help("true: when Rehearsal gave the image's location an older image's words, the filter sees an observation it has seen, and the value compared with T_loop is at most the previous image's: a merged image keeps a loop closure, it does not start one (in --preset hand-held; false = the paper and the default)"),
     Param("filter.ltm_neighbour_check", MEMLOOP_FIELD(filter.ltm_neighbour_check)).Flag()

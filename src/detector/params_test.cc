@@ -64,24 +64,24 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
   for (const Parameter& parameter : Parameters()) {
     if (parameter.Get(defaults) != parameter.Get(paper)) departures.insert(parameter.key);
   }
-  EXPECT_EQ(
-      departures,
-      (std::set<std::string>{
-          "surf.upright", "memory.stm_size", "memory.protect_hypothesis", "filter.loop_threshold",
-          "filter.hypothesis_value", "filter.require_support", "filter.min_shared_words",
-          "filter.ltm_neighbour_check", "memory.time_target", "memory.transfer_max_fraction",
-          "sift.upright", "orb.upright", "memory.appearance_retrieval",
-          "memory.retrieval_within_time", "memory.retrieval_read_ahead",
-          "memory.signature_within_time", "memory.retrieval_over_iterations",
-          "memory.retrieval_kd_checks", "memory.max_dictionary_words", "memory.retrieval_min_value",
-          "memory.retrieved_kept_last_iterations", "memory.retrieval_strong_value",
-          "memory.signature_room_for_retrieval", "memory.retrieval_stage_deferred",
-          "features.min_image_side",
-          // The paper's 2011 code where its text is silent; memloop's measured choices.
-          "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees",
-          "dictionary.nndr_ratio", "dictionary.kd_checks", "memory.rehearsal_most_similar",
-          "filter.loop_ratio", "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
-          "memory.retrieved_immune_iterations", "memory.wm_min_time_share"}));
+  EXPECT_EQ(departures,
+            (std::set<std::string>{
+                "surf.upright", "memory.stm_size", "memory.protect_hypothesis",
+                "filter.loop_threshold", "filter.hypothesis_value", "filter.require_support",
+                "filter.min_shared_words", "filter.ltm_neighbour_check",
+                "filter.support_from_image", "memory.time_target", "memory.transfer_max_fraction",
+                "sift.upright", "orb.upright", "memory.appearance_retrieval",
+                "memory.retrieval_within_time", "memory.retrieval_read_ahead",
+                "memory.signature_within_time", "memory.retrieval_over_iterations",
+                "memory.retrieval_kd_checks", "memory.max_dictionary_words",
+                "memory.retrieval_min_value", "memory.retrieved_kept_last_iterations",
+                "memory.retrieval_strong_value", "memory.signature_room_for_retrieval",
+                "memory.retrieval_stage_deferred", "features.min_image_side",
+                // The paper's 2011 code where its text is silent; memloop's measured choices.
+                "surf.hessian_threshold", "surf.sample_step", "surf.rolled_view_degrees",
+                "dictionary.nndr_ratio", "dictionary.kd_checks", "memory.rehearsal_most_similar",
+                "filter.loop_ratio", "filter.no_signal_virtual_place", "filter.min_sigma_ratio",
+                "memory.retrieved_immune_iterations", "memory.wm_min_time_share"}));
 }
 
 TEST(ParamsTest, PresetsByName) {
@@ -92,8 +92,9 @@ TEST(ParamsTest, PresetsByName) {
   const Options hand_held = Preset("hand-held");
   EXPECT_EQ(hand_held.features.surf_max_roll_degrees, 45);
   EXPECT_EQ(hand_held.verification.max_roll_degrees, 20);
-  EXPECT_EQ(hand_held.filter.support_from_image, 1);
-  EXPECT_EQ(Options().filter.support_from_image, 0);
+  EXPECT_EQ(hand_held.filter.support_from_image, 2);  // as the defaults
+  EXPECT_EQ(Options().filter.support_from_image, 2);
+  EXPECT_EQ(Preset("paper2011").filter.support_from_image, 0);
   EXPECT_EQ(hand_held.filter.cap_merged_images, 1);
   EXPECT_EQ(Options().filter.cap_merged_images, 0);
   EXPECT_EQ(hand_held.memory.stm_size, Options().memory.stm_size);

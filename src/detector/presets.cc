@@ -44,7 +44,8 @@ Options Options::Paper2011() {
   options.filter.min_sigma_ratio = 0;          // eq. 3-4 as written
   options.filter.likelihood = "similarity";
   options.filter.require_support = 0;
-  options.filter.min_shared_words = 1;  // the 2011 code: the hypothesis' own score > 0
+  options.filter.support_from_image = 0;  // III-B: the merged words alone
+  options.filter.min_shared_words = 1;    // the 2011 code: the hypothesis' own score > 0
   options.filter.ltm_neighbour_check = 0;
   options.verification.min_inliers = 0;
   options.verification.max_roll_degrees = 0;
@@ -68,12 +69,7 @@ Options Options::HandHeld() {
   // strict / lenient recall: 52.8% / 84.1% at 15, 53.8% / 85.0% at 20, 58.8% / 94.0% at 30
   // (docs/design.md, "Camera roll").
   options.verification.max_roll_degrees = 20;
-  // A camera turning about one spot keeps merging into an older image's words (Rehearsal): a
-  // loop closure also needs the image's own words (docs/design.md; measured: corridor 14.4% /
-  // 9.0% -> 16.2% / 14.4%, gp_walk_a 89% -> 91%, tum_fr1_rpy at 26 16.7% -> 17.0%, the other
-  // hand-held rows unchanged).
-  options.filter.support_from_image = 1;
-  // ... and an image merged into older words keeps a loop closure but does not start one: the
+  // An image merged into older words (Rehearsal) keeps a loop closure but does not start one: the
   // filter has observed those words already (docs/design.md; measured: the false positive at
   // tum_fr1_rpy WM 13 removed, gp_walk_a under budgets 88% / 86% -> 91% / 91%).
   options.filter.cap_merged_images = 1;
