@@ -424,6 +424,10 @@ TEST(DetectorIntegrationTest, UncommittedCheckpointIsSkippedOnlyWithTimeLimit) {
         const bool skipped = index == 0 || (time_limit > 0 && (index - 1) % (max_skipped + 1) != 0);
         EXPECT_EQ(result.times.checkpoint_ms == 0, skipped)
             << "image " << index << ", T_time " << time_limit << ", skips " << max_skipped;
+        if (!skipped && index > 1) {  // waited for the held writer: the iteration's LTM wait
+          EXPECT_GT(result.times.ltm_wait_ms, 0.0) << "image " << index;
+          EXPECT_LE(result.times.ltm_wait_ms, result.times.checkpoint_ms) << "image " << index;
+        }
       }
       detector.Close();
     }

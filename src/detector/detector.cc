@@ -170,6 +170,11 @@ class Detector::Impl {
 
   Result StartIteration(const ImageInfo& info) {
     iteration_ = Stopwatch();
+    // Waits and reads between images are not this iteration's; the checkpoint's below are (its
+    // wait for the writer is ltm_wait_ms, its CPU in cpu_ms, as its time is in iteration_ms).
+    ltm_.TakeWriterWaitMs();
+    ltm_.TakeFileReadMs();
+    iteration_cpu_start_ms_ = ThreadCpuMs();
     Result result;
     WriteDueCheckpoint(result);  // the previous image's, before anything changes
     result.processed = true;
@@ -182,10 +187,7 @@ class Detector::Impl {
     dictionary_size_at_start_ = memory_.dictionary().size();
     retrieved_immune_.StartIteration(counters_.images_processed);
     retrieved_kept_last_.StartIteration(counters_.images_processed);
-    image_words_.reset();     // set by Rehearse, which localization does not call
-    ltm_.TakeWriterWaitMs();  // waits and reads between images are not this iteration's
-    ltm_.TakeFileReadMs();
-    iteration_cpu_start_ms_ = ThreadCpuMs();
+    image_words_.reset();  // set by Rehearse, which localization does not call
     return result;
   }
 
