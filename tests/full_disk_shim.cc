@@ -1,5 +1,6 @@
 // A full disk for one file, for tests (LD_PRELOAD): writes to the file named by FULL_DISK_FILE
-// (its canonical path) fail with ENOSPC past FULL_DISK_BYTES, the last one cut short, as a full
+// (its canonical path), or to any file of the folder FULL_DISK_FOLDER, fail with ENOSPC past
+// FULL_DISK_BYTES, the last one cut short, as a full
 // file system does. Every other file is written as usual: the map's, unlike under RLIMIT_FSIZE
 // (which limits every file of the process, and the map outgrows a CSV long before).
 #include <dlfcn.h>
@@ -21,16 +22,22 @@ WriteFunction RealWrite() {
   return real;
 }
 
+// The file named by FULL_DISK_FILE, or any file directly in FULL_DISK_FOLDER (canonical paths).
 bool IsFullFile(int fd) {
   const char* target = std::getenv("FULL_DISK_FILE");
-  if (target == nullptr) return false;
+  const char* folder = std::getenv("FULL_DISK_FOLDER");
+  if (target == nullptr && folder == nullptr) return false;
   char link[64];
   char path[PATH_MAX];
   std::snprintf(link, sizeof(link), "/proc/self/fd/%d", fd);
   const ssize_t length = readlink(link, path, sizeof(path) - 1);
   if (length < 0) return false;
   path[length] = '\0';
-  return std::strcmp(path, target) == 0;
+  if (target != nullptr && std::strcmp(path, target) == 0) return true;
+  if (folder == nullptr) return false;
+  const size_t size = std::strlen(folder);
+  return std::strncmp(path, folder, size) == 0 && path[size] == '/' &&
+         std::strchr(path + size + 1, '/') == nullptr;
 }
 
 }  // namespace

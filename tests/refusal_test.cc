@@ -12,6 +12,7 @@
 #include <string>
 
 #include "cli_helpers.h"
+#include "folder_state.h"
 #include "memloop/detector.h"
 #include "memloop/synthetic_route.h"
 #include "route_images_test.h"
@@ -23,44 +24,6 @@ namespace memloop {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Every file of a folder (recursively) with its bytes: compared before and after a refusal.
-std::map<std::string, std::string> FolderState(const std::string& folder) {
-  std::map<std::string, std::string> state;
-  for (const auto& entry : fs::recursive_directory_iterator(folder)) {
-    std::error_code error;  // a looping symlink has no type
-    if (entry.is_regular_file(error))
-      state[entry.path().string()] = ReadFile(entry.path().string());
-  }
-  return state;
-}
-
-// The files that differ between two states, by name: for a readable failure message.
-std::string Differences(const std::map<std::string, std::string>& before,
-                        const std::map<std::string, std::string>& after) {
-  std::string text;
-  for (const auto& [path, bytes] : after) {
-    const auto old = before.find(path);
-    if (old == before.end())
-      text += " created " + path;
-    else if (old->second != bytes)
-      text += " changed " + path;
-  }
-  for (const auto& [path, bytes] : before) {
-    if (!after.count(path)) text += " removed " + path;
-  }
-  return text;
-}
-
-// Lines of a refusal's output, CLI11's "Run with --help" hint after a usage error aside.
-int MessageLines(const std::string& output) {
-  std::istringstream in(output);
-  int count = 0;
-  for (std::string line; std::getline(in, line);) {
-    count += !line.empty() && !Contains(line, "Run with --help");
-  }
-  return count;
-}
 
 class RefusalTest : public testing::RouteImagesTest<RefusalTest> {
  protected:
@@ -98,15 +61,15 @@ TEST_F(RefusalTest, RefusedRunsChangeAndCreateNoFile) {
                          "not a results CSV of this memloop");
   ExpectRefusedUntouched(
       "run " + Images() + " --db " + dir_.File("same.db") + " --out " + dir_.File("same.db"), 1,
-      "is the map (--db) too");
+      "is also the map (--db)");
   ExpectRefusedUntouched("run " + Images() + " --db " + map + " --out " + map, 1,
-                         "is the map (--db) too");
+                         "is also the map (--db)");
   ExpectRefusedUntouched("run " + Images() + " --rate nan", 2, "--rate");
   ExpectRefusedUntouched("run --camera -1", 2, "a camera number (0 or more)");
   ExpectRefusedUntouched("frobnicate", 2, "unknown command 'frobnicate' (commands: run, demo");
   ExpectRefusedUntouched(
       "report " + csv + " " + folder_->File("ground_truth_pairs.csv") + " --out " + csv, 1,
-      "is an input of the report too");
+      "is also the run's CSV");
 }
 
 // Runs `sql` on a copy of a map, as a tool that edits the file would.
@@ -164,7 +127,7 @@ TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
         run + " --db " + newer + " --set memory.localization=1", "inspect " + newer}) {
     ExpectRefusedUntouched(use, 1,
                            newer + ": map format " + next + " is newer than this memloop's (" +
-                           std::to_string(LtmDatabase::kFormatVersion) + ")");
+                               std::to_string(LtmDatabase::kFormatVersion) + ")");
   }
   ExpectRefusedUntouched(run + " --db " + checkpoint + " --resume", 1,
                          checkpoint + ": cannot resume: the map is damaged (");
@@ -181,19 +144,6 @@ TEST_F(RefusalTest, DamagedTruncatedAndNewerMapsAreRefusedInOneLineUntouched) {
       << inspect.output;
   EXPECT_EQ(Differences(before, FolderState(dir_.path().string())), "");
   EXPECT_TRUE(Contains(Memloop("inspect " + map).output, "integrity: ok)"));
-}
-
-// `arguments` run with `folder` mounted read-only, in a mount namespace of their own (needs
-// the privilege to mount: none when unshare is refused).
-std::optional<Outcome> MemloopWithFolderReadOnly(const std::string& folder,
-                                                 const std::string& arguments) {
-  const std::string mount = "mount --bind " + folder + " " + folder +
-                            " && mount -o remount,ro,bind " + folder + " " + folder;
-  if (std::system(("unshare -m sh -c '" + mount + "' >/dev/null 2>&1").c_str()) != 0) {
-    return std::nullopt;
-  }
-  return MemloopWithEnvironment("unshare -m sh -c '" + mount + " && exec \"$0\" \"$@\"'",
-                                arguments);
 }
 
 // A sound map on a read-only file system is inspected and localized against (before: "not an

@@ -45,13 +45,15 @@ class Detector {
   // Throws ParameterError for invalid options and DatabaseError when `database_path` cannot be
   // used: kNew, it holds something; kResume, it is not a memloop map, is damaged, has no
   // checkpoint (made by an older memloop), or was made with different values of parameters that
-  // define the map (ParameterError naming each; see DefinesMap in params.h). A refused file is
-  // never modified. Resuming restores STM, WM, the dictionary and the filter as they were at the
-  // last checkpoint; images after it are to be given again (last_image() says which).
-  // With options.memory.localization, the map at `database_path` must exist, whatever `mode`: it
-  // is opened read-only from its last checkpoint, images are matched against it (loop_closure_id
-  // names the map's location; location_id is kNoLocation, the image makes none) and nothing is
-  // written, Close() included. Retrieval and transfer work as in mapping, in memory.
+  // define the map (ParameterError naming each; see DefinesMap in params.h); any mode, another
+  // process is writing it (MapWriterProcess, map_info.h). A refused file is never modified. A map
+  // that holds no image yet (a run killed before its first checkpoint) is resumed from its start.
+  // Resuming restores STM, WM, the dictionary and the filter as they were at the last checkpoint;
+  // images after it are to be given again (last_image() says which). With
+  // options.memory.localization, the map at `database_path` must exist, whatever `mode`: it is
+  // opened read-only from its last checkpoint, images are matched against it (loop_closure_id names
+  // the map's location; location_id is kNoLocation, the image makes none) and nothing is written,
+  // Close() included. Retrieval and transfer work as in mapping, in memory.
   Detector(const Options& options, const std::string& database_path, MapMode mode = MapMode::kNew);
   ~Detector();
   Detector(const Detector&) = delete;
@@ -114,8 +116,9 @@ struct MapProgress {
   // Its last session (MapSession::id = -1 for a map made before memloop recorded images).
   MapSession last_session;
 };
-// Read without changing the file. Throws DatabaseError when `path` is not a readable memloop map
-// or has no checkpoint.
+// Read without changing the file. A map that holds no image yet (a run killed before its first
+// checkpoint) gives last_image kNoImage: resumed, it starts from its first image. Throws
+// DatabaseError when `path` is not a readable memloop map, or holds locations but no checkpoint.
 MapProgress ReadMapProgress(const std::string& path);
 
 // The options a map was made with (its parameter table). Throws DatabaseError when `path` is not

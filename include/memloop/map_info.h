@@ -54,15 +54,24 @@ struct MapInfo {
   // Empty for a map made before memloop recorded images (format 4 without the images table).
   std::vector<MapSession> sessions;
   std::vector<std::pair<std::string, std::string>> parameters;  // name, value as stored
+  // The process writing the map as it was read (MapWriterProcess), 0 when none: what it had
+  // committed then is what this holds, read in one transaction.
+  long writer_pid = 0;
 };
 
 // Opens `path` read-only (its bytes never change). Throws DatabaseError naming the file when it
 // is not a memloop map, is of a newer format, or SQLite finds it damaged; a damaged checkpoint
-// is said in `integrity` (what LTM holds is still read).
+// is said in `integrity` (what LTM holds is still read). A map another process is writing is
+// read as that process has committed it (`writer_pid`).
 MapInfo InspectMap(const std::string& path);
 
 // Every image the map records, in index order (up to its last checkpoint). Throws DatabaseError
 // as InspectMap does.
 std::vector<MapImage> ReadMapImages(const std::string& path);
+
+// The process id of the process writing the map at `path` now (a run, a node, a Detector not
+// yet closed), -1 when one is but its id is not known yet, 0 when none is. A map being written is
+// sound: readers see what its writer has committed so far.
+long MapWriterProcess(const std::string& path);
 
 }  // namespace memloop

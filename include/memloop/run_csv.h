@@ -23,8 +23,11 @@ class RunCsvWriter {
   RunCsvWriter(const std::string& path, ImageIndex keep_through);
   // Before a resume touches anything: throws InputError, naming `path`, when its rows up to
   // `keep_through` are not those of a map that holds `images` images up to it (the CSV of
-  // another run, or one whose last rows were lost, e.g. on a full disk). A missing file passes.
-  static void CheckContinues(const std::string& path, ImageIndex keep_through, long long images);
+  // another run, or one whose last rows were lost, e.g. on a full disk), or when it holds more
+  // than `max_rows_after` rows after `keep_through`: more than a run killed after the map's last
+  // checkpoint leaves, so another, longer run's results. A missing file passes.
+  static void CheckContinues(const std::string& path, ImageIndex keep_through, long long images,
+                             long long max_rows_after);
   // Writes and flushes one row, so that a killed run leaves whole rows. Throws InputError when
   // the write fails (a full disk).
   void Write(const std::string& image_name, const Result& result);

@@ -439,7 +439,8 @@ ResumeState ReadState(LtmDatabase& database, std::optional<DescriptorFormat> for
 
 }  // namespace
 
-ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) {
+ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary,
+                           const std::string& use) {
   if (database.format_version() < LtmDatabase::kOldestResumable) {
     throw DatabaseError(database.path(),
                         "this map was made by an older memloop (map format " +
@@ -459,13 +460,14 @@ ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary) 
     throw;
   } catch (const Error& error) {
     throw DatabaseError(database.path(),
-                        std::string("cannot resume: the map is damaged (") + error.what() + ")");
+                        "cannot " + use + ": the map is damaged (" + error.what() + ")");
   }
 }
 
 DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
-                                   MapEditor& editor, RecentRetrievals& kept_last) {
-  ResumeState state = ReadCheckpoint(database, memory.dictionary());
+                                   MapEditor& editor, RecentRetrievals& kept_last,
+                                   const std::string& use) {
+  ResumeState state = ReadCheckpoint(database, memory.dictionary(), use);
   try {
     memory.dictionary().Reload(state.words, state.index, state.words_referenced_by_ltm,
                                state.next_word_id);
@@ -474,7 +476,7 @@ DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesF
     throw;
   } catch (const Error& error) {
     throw DatabaseError(database.path(),
-                        std::string("cannot resume: the map is damaged (") + error.what() + ")");
+                        "cannot " + use + ": the map is damaged (" + error.what() + ")");
   }
   filter.Reload(std::move(state.posterior), state.virtual_place);
   editor.SetPastMatches(std::move(state.past_matches));

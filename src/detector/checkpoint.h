@@ -73,14 +73,17 @@ class CheckpointWriter {
 };
 
 // Reads the checkpoint of a map whose words are of `dictionary`'s kind. Throws DatabaseError
-// naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged.
-ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary);
+// naming the file when it holds none (a map of memloop format 1) or the checkpoint is damaged;
+// its message says what could not be done: "cannot <use>" ("resume", "localize against it").
+ResumeState ReadCheckpoint(LtmDatabase& database, const Dictionary& dictionary,
+                           const std::string& use = "resume");
 
 // Reads the checkpoint into `memory` (its dictionary included), `filter`, `editor`'s past
 // matches and `kept_last`, and returns its counters. Throws DatabaseError naming the file when the
 // checkpoint cannot be read or does not fit together.
 DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesFilter& filter,
-                                   MapEditor& editor, RecentRetrievals& kept_last);
+                                   MapEditor& editor, RecentRetrievals& kept_last,
+                                   const std::string& use = "resume");
 
 // The counters of the map's last checkpoint alone (no dictionary needed); none when it holds no
 // checkpoint. Throws DatabaseError naming the file when they are damaged.

@@ -45,8 +45,10 @@ class Detector::Impl {
         retrieval_(options_.memory, options_.filter.neighbour_range, memory_, ltm_),
         appearance_(MakeAppearanceIndex(options_, *extractor_)),
         editor_(memory_, ltm_, filter_, appearance_.get()) {
-    if (localizing_ || mode != MapMode::kNew) Resume(database_path);  // nothing written before
-    if (mode == MapMode::kNewSession && !localizing_) StartSession();
+    // A map a run left before its first checkpoint holds nothing to go on from: it starts afresh.
+    const bool extends = localizing_ || (mode != MapMode::kNew && !HoldsNoImage(database_path));
+    if (extends) Resume(database_path);  // nothing written before
+    if (extends && mode == MapMode::kNewSession && !localizing_) StartSession();
     WaitForDueRebuildsWithinTime();
     if (localizing_) {
       MoveStmToWm();
@@ -217,11 +219,25 @@ class Detector::Impl {
 
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
   // checking that the map was made with the same map-defining parameters.
+  // A map with no checkpoint, no location and no image: a run killed before its first checkpoint
+  // was committed (ltm_ holds it open to write).
+  bool HoldsNoImage(const std::string& path) {
+    LtmDatabase database(path, LtmDatabase::Mode::kAttach);
+    try {
+      return database.format_version() == LtmDatabase::kFormatVersion &&
+             !ReadCheckpointCounters(database) && database.CountLocations() == 0 &&
+             database.QueryNumber("SELECT count(*) FROM location_images") == 0;
+    } catch (const DatabaseError&) {
+      return false;  // damaged: Resume() says how
+    }
+  }
+
   void Resume(const std::string& path) {
     // ltm_ checked the file
     LtmDatabase database(path, localizing_ ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kAttach);
     CheckMapParameters(database, options_);
-    counters_ = RestoreCheckpoint(database, memory_, filter_, editor_, retrieved_kept_last_);
+    const std::string use = localizing_ ? "localize against it" : "resume";
+    counters_ = RestoreCheckpoint(database, memory_, filter_, editor_, retrieved_kept_last_, use);
     for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
     if (appearance_) ReloadAppearance(database, memory_, ltm_, *appearance_);
     sessions_.Resume(database.ReadSessions(), counters_.last_image);
@@ -230,7 +246,7 @@ class Detector::Impl {
     const std::vector<std::string> problems = CheckConsistency(LtmCheck::kNearMemory);
     if (!problems.empty()) {
       throw DatabaseError(
-          path, "cannot resume: the map is inconsistent (" + problems.front() +
+          path, "cannot " + use + ": the map is inconsistent (" + problems.front() +
                     (problems.size() > 1
                          ? ", and " + std::to_string(problems.size() - 1) + " more problems)"
                          : ")"));

@@ -32,6 +32,8 @@ MapInfo InspectMap(const std::string& path) {
   LtmDatabase database(path, LtmDatabase::Mode::kRead);  // checks identity and quick_check
   MapInfo info;
   info.path = path;
+  info.writer_pid = MapWriterProcess(path);
+  database.Begin();  // one snapshot: a writer's later commits are not half seen
   info.format_version = database.format_version();
   const std::string checkpoint_problem = CheckpointProblem(database);
   info.integrity =
@@ -50,6 +52,7 @@ MapInfo InspectMap(const std::string& path) {
   for (auto& [key, value] : database.ReadInfoWithPrefix("param.")) {
     info.parameters.emplace_back(key.substr(6), value);
   }
+  database.Commit();
   return info;
 }
 

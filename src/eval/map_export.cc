@@ -13,6 +13,7 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                     const CameraIntrinsics& intrinsics) {
   const Options options = ReadMapOptions(map_path);
   LtmDatabase database(map_path, LtmDatabase::Mode::kRead);
+  database.Begin();  // one snapshot of a map another process may be writing
   std::map<ImageIndex, MapImage> images;
   for (MapImage& image : database.ReadImages()) images[image.index] = std::move(image);
   // The location that holds each image now (a location absorbs others: rehearsal, past matches).

@@ -1,10 +1,11 @@
 // The pose-graph files `memloop export` writes (docs/export.md): g2o edges and TUM-convention
 // relative poses. (Its JSON, with everything, is written by the tool.)
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
+#include "util/output_files.h"
 
 namespace memloop {
 namespace {
@@ -76,8 +77,7 @@ void WriteLoopClosures(const std::vector<ExportedLoopClosure>& loops, ExportForm
                                              " writes relative poses: give the camera's "
                                              "--intrinsics fx,fy,cx,cy");
   }
-  std::ofstream out(path);
-  if (!out) throw InputError(path, "cannot write the export file");
+  std::ostringstream out;
   switch (format) {
     case ExportFormat::kJson:
       break;
@@ -88,8 +88,7 @@ void WriteLoopClosures(const std::vector<ExportedLoopClosure>& loops, ExportForm
       WriteTum(loops, out);
       break;
   }
-  out.close();
-  if (!out) throw InputError(path, "writing the export failed (disk full?)");
+  WriteWholeFile(path, "the export file", out.str());
 }
 
 }  // namespace memloop

@@ -90,6 +90,7 @@ struct KeptRows {
   std::string text;
   long long rows = 0;
   ImageIndex last_image = kNoImage;
+  long long rows_after = 0;  // rows of later images, dropped
 };
 
 std::optional<KeptRows> ReadKeptRows(const std::string& path, ImageIndex keep_through) {
@@ -106,7 +107,12 @@ std::optional<KeptRows> ReadKeptRows(const std::string& path, ImageIndex keep_th
   while (std::getline(in, line) && !in.eof()) {
     char* end = nullptr;
     const long image = std::strtol(line.c_str(), &end, 10);
-    if (end == line.c_str() || *end != ',' || image > keep_through) break;
+    if (end == line.c_str() || *end != ',') break;
+    if (image > keep_through) {
+      ++kept.rows_after;
+      continue;
+    }
+    if (kept.rows_after > 0) break;  // not in image order: not kept
     kept.text += line + '\n';
     ++kept.rows;
     kept.last_image = static_cast<ImageIndex>(image);
@@ -117,8 +123,17 @@ std::optional<KeptRows> ReadKeptRows(const std::string& path, ImageIndex keep_th
 }  // namespace
 
 void RunCsvWriter::CheckContinues(const std::string& path, ImageIndex keep_through,
-                                  long long images) {
+                                  long long images, long long max_rows_after) {
   const std::optional<KeptRows> kept = ReadKeptRows(path, keep_through);
+  if (kept && kept->rows == images && kept->rows_after > max_rows_after) {
+    throw InputError(path, "holds " + std::to_string(kept->rows_after) + " rows after image " +
+                               std::to_string(keep_through) +
+                               ", the map's last: more than a run killed after its last "
+                               "checkpoint leaves (at most " +
+                               std::to_string(max_rows_after) +
+                               "), so another run's results; give this map's own CSV, or "
+                               "another --out");
+  }
   if (!kept || kept->rows == images) return;
   if (kept->rows < images && (kept->rows == 0 || kept->last_image < keep_through)) {
     throw InputError(path, "holds results up to image " +

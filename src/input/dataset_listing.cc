@@ -71,7 +71,8 @@ void CheckTimeOrder(const fs::path& listing, const std::vector<int>& lines,
 // TUM RGB-D: "# comment" lines, then "timestamp filename" with filename relative to the folder.
 DatasetListing ListTum(const fs::path& folder) {
   const fs::path listing = folder / "rgb.txt";
-  DatasetListing result{InputFormat::kTum, {}};
+  if (!IsFile(listing)) throw InputError(folder.string(), "not a TUM folder (no rgb.txt)");
+  DatasetListing result{InputFormat::kTum, {}, listing.string()};
   std::vector<int> lines;
   for (const auto& [number, line] : ReadLines(listing)) {
     if (IsBlankOrComment(line)) continue;
@@ -102,7 +103,7 @@ DatasetListing ListEuroc(const fs::path& folder) {
     throw InputError(folder.string(), "not a EuRoC folder (no mav0/cam0/data.csv beside data/)");
   }
   const fs::path listing = camera / "data.csv";
-  DatasetListing result{InputFormat::kEuroc, {}};
+  DatasetListing result{InputFormat::kEuroc, {}, listing.string()};
   std::vector<int> lines;
   for (const auto& [number, line] : ReadLines(listing)) {
     if (IsBlankOrComment(line)) continue;
@@ -187,7 +188,7 @@ DatasetListing ListKitti(const fs::path& folder) {
                                                 std::to_string(names.size()) + " images in " +
                                                 layout.images.string() + " (one time per image)");
   }
-  DatasetListing result{InputFormat::kKitti, {}};
+  DatasetListing result{InputFormat::kKitti, {}, layout.times.string()};
   for (size_t i = 0; i < names.size(); ++i) {
     result.images.push_back({names[i], (layout.images / names[i]).string(), times[i]});
   }
@@ -196,7 +197,7 @@ DatasetListing ListKitti(const fs::path& folder) {
 }
 
 DatasetListing ListPlainFolder(const fs::path& folder) {
-  DatasetListing result{InputFormat::kFolder, {}};
+  DatasetListing result{InputFormat::kFolder, {}, ""};
   for (const std::string& name : ListFolder(folder.string())) {
     result.images.push_back({name, (folder / name).string(), kNoTimestamp});
   }

@@ -18,6 +18,7 @@ struct ListedImage {
 struct DatasetListing {
   InputFormat format = InputFormat::kFolder;
   std::vector<ListedImage> images;
+  std::string listing;  // the file that lists the images ("" for a plain folder)
 };
 
 // The layout `folder` is in: the first of TUM, EuRoC, KITTI whose listing file is there, else

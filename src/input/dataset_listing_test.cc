@@ -75,8 +75,8 @@ TEST(DatasetListingTest, TumMalformedLinesAndTimeGoingBackAreRefusedByLine) {
   ExpectInputError(open, listing, "line 2: time stamp before the previous line's");
   WriteText(listing, "# only comments\n");
   ExpectInputError(open, listing, "the listing holds no image");
-  fs::remove(listing);
-  ExpectInputError(open, listing, "cannot be read");
+  fs::remove(listing);  // named as EuRoC and KITTI folders are (before: "rgb.txt: cannot be read")
+  ExpectInputError(open, dir.path().string(), "not a TUM folder (no rgb.txt)");
 }
 
 TEST(DatasetListingTest, ListedImageThatIsMissingIsAFrameWithAnError) {

@@ -104,9 +104,12 @@ class Ros2Bag : public BagSource {
           }
           found->messages += topics.Int(3);
         }
-      } catch (const DatabaseError& failure) {
+      } catch (const DatabaseError&) {
+        const bool opened = !files_.empty() && files_.back()->path() == file;
         throw InputError(
-            file, std::string("not a readable ROS 2 bag (sqlite3 storage): ") + failure.what());
+            file, std::string("not a readable ROS 2 bag (sqlite3 storage; SQLite: ") +
+                      (opened ? sqlite3_errmsg(files_.back()->handle()) : "cannot be opened") +
+                      ")");
       }
     }
   }

@@ -5,6 +5,7 @@
 
 #include "detector/stopwatch.h"
 #include "memloop/errors.h"
+#include "memloop/map_info.h"
 #include "util/thread_name.h"
 #include "util/thread_priority.h"
 
@@ -42,17 +43,27 @@ std::string WriteFailure(const std::string& path, const std::exception& error) {
   return "writing the map failed: " + what;
 }
 
+// A map is written by one process at a time, and read (localization) while none writes it: its
+// locations are read on demand, and a writer would change them between two reads.
+std::unique_ptr<MapWriterLock> LockUnlessReadOnly(const std::string& path, LtmDatabase::Mode mode) {
+  if (mode != LtmDatabase::Mode::kRead) return std::make_unique<MapWriterLock>(path);
+  ThrowIfBeingWritten(path, "localize against it");
+  return nullptr;
+}
+
 }  // namespace
 
 LongTermMemory::LongTermMemory(const std::string& path, LtmDatabase::Mode mode,
                                const LtmOptions& options)
     : path_(path),
       read_only_(mode == LtmDatabase::Mode::kRead),
+      writer_lock_(LockUnlessReadOnly(path, mode)),
       reader_(path, mode),
       max_pending_bytes_(options.max_pending_bytes),
       max_page_count_(options.max_page_count),
       committed_writes_(options.max_replayed_writes),
       recent_words_(options.recent_word_bytes) {
+  if (writer_lock_) writer_lock_->Adopt();  // the map is open: its lock file goes with it
   for (LocationId id : reader_.ReadLocationIds()) ids_.insert(id);
   for (const auto& [from, to] : reader_.ReadAllLinks()) {
     if (Contains(from)) links_[from].push_back(to);

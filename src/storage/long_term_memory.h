@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <deque>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -20,6 +21,7 @@
 
 #include "storage/committed_writes.h"
 #include "storage/ltm_database.h"
+#include "storage/map_writer_lock.h"
 #include "storage/oldest_first_cache.h"
 
 namespace memloop {
@@ -224,6 +226,7 @@ class LongTermMemory {
 
   std::string path_;
   bool read_only_;
+  std::unique_ptr<MapWriterLock> writer_lock_;  // held while the map is open to write
   LtmDatabase reader_;
   std::set<LocationId> ids_;  // locations now in LTM
   // Their links (LinksOf), sorted: changed by the detector's thread only, as ids_.

@@ -11,7 +11,9 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
+#include "memloop/map_info.h"
 #include "storage/map_integrity.h"
+#include "storage/map_writer_lock.h"
 
 namespace memloop {
 namespace {
@@ -32,9 +34,9 @@ bool HoldsData(const std::string& path) {
 }
 
 // A file SQLite may read alone, leaving nothing beside it: no write-ahead log with content
-// (a map closed cleanly) and no rollback journal.
+// (a map closed cleanly), no rollback journal, and no process writing it.
 bool ReadableAlone(const std::string& path) {
-  return FileSize(path + "-wal") == 0 && !fs::exists(path + "-journal");
+  return FileSize(path + "-wal") == 0 && !fs::exists(path + "-journal") && !MapOpenToWrite(path);
 }
 
 // What cannot be a map file at all, said before SQLite says "disk I/O error" or "unable to open".
@@ -97,8 +99,40 @@ std::string ReadText(SqliteConnection& connection, const std::string& sql) {
 
 }  // namespace
 
+namespace {
+
+// A refused map keeps its folder as it was: the -shm index SQLite made to read its log goes
+// (unless another process uses it).
+class RemoveIndexIfRefused {
+ public:
+  explicit RemoveIndexIfRefused(const std::string& path)
+      : index_(path + "-shm"), existed_(fs::exists(index_)), path_(path) {}
+  ~RemoveIndexIfRefused() {
+    if (!accepted_ && !existed_ && !MapOpenToWrite(path_)) {
+      std::error_code ignored;
+      fs::remove(index_, ignored);
+    }
+  }
+  void Accept() { accepted_ = true; }
+
+ private:
+  std::string index_;
+  bool existed_;
+  std::string path_;
+  bool accepted_ = false;
+};
+
+}  // namespace
+
 int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
   CheckIsFileOrAbsent(path, mode);
+  RemoveIndexIfRefused index(path);
+  const int version = CheckMapContent(path, mode);
+  index.Accept();
+  return version;
+}
+
+int LtmDatabase::CheckMapContent(const std::string& path, Mode mode) {
   if (!HoldsData(path)) {
     if (mode != Mode::kCreate) {
       throw DatabaseError(path,

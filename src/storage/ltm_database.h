@@ -139,6 +139,7 @@ class LtmDatabase {
  private:
   // The checks above; returns the map's format version (kFormatVersion for a new file).
   static int CheckMapFile(const std::string& path, Mode mode);
+  static int CheckMapContent(const std::string& path, Mode mode);  // after the file's type
   void CreateSchema();
   void CreateAppearanceTables();
   void CreateImageTable();

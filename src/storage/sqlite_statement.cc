@@ -49,18 +49,19 @@ void SqliteConnection::Execute(const std::string& sql) {
   const int code = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error);
   const std::string message = error ? error : "";
   sqlite3_free(error);
-  if (code != SQLITE_OK) throw DatabaseError(path_, message + " (while running: " + sql + ")");
+  // The SQL stays out of the message: it is the user's file, not the statement, that is at fault.
+  if (code != SQLITE_OK) throw DatabaseError(path_, "SQLite: " + message);
 }
 
 void SqliteConnection::Check(int code, const std::string& what) const {
   if (code == SQLITE_OK || code == SQLITE_ROW || code == SQLITE_DONE) return;
-  throw DatabaseError(path_, what + ": " + sqlite3_errmsg(db_));
+  throw DatabaseError(path_, what + " (SQLite: " + sqlite3_errmsg(db_) + ")");
 }
 
 SqliteStatement::SqliteStatement(const SqliteConnection& connection, const std::string& sql)
     : connection_(connection) {
   connection_.Check(sqlite3_prepare_v2(connection.handle(), sql.c_str(), -1, &statement_, nullptr),
-                    "cannot prepare '" + sql + "'");
+                    "cannot read the file");
 }
 
 SqliteStatement::~SqliteStatement() { sqlite3_finalize(statement_); }
@@ -91,7 +92,7 @@ SqliteStatement& SqliteStatement::BindBlob(int index, const void* data, int byte
 
 bool SqliteStatement::Step() {
   const int code = sqlite3_step(statement_);
-  connection_.Check(code, "cannot run '" + std::string(sqlite3_sql(statement_)) + "'");
+  connection_.Check(code, "cannot read or write the file");
   return code == SQLITE_ROW;
 }
 

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <set>
 
+#include "command_files.h"
 #include "commands.h"
 #include "memloop/evaluation.h"
 #include "memloop/place_sequence.h"
@@ -101,7 +102,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string folder;
     std::string layout = "images";
     PlaceSequenceOptions places;
-    int realtime_priority = 0;
+    int realtime_priority = kUsualScheduling;
     double pace_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -120,6 +121,7 @@ void AddDemoCommand(CLI::App& app) {
     const Options options =
         WithSettings(Preset(arguments->preset), arguments->config, arguments->assignments);
     SessionOptions session = kScoredSession;
+    session.inputs = FileIfGiven(arguments->config, "the parameter file (--config)");
     session.realtime_priority = arguments->realtime_priority;
     session.pace_hz = arguments->pace_hz;
     if (demo_places->count() > 0) {

@@ -18,6 +18,7 @@
 #include "memloop/ground_truth.h"
 #include "memloop/report.h"
 #include "memloop/run_csv.h"
+#include "util/output_files.h"
 
 namespace memloop::cli {
 namespace {
@@ -148,28 +149,6 @@ void AddIgnoredAsTrueFlag(CLI::App& command, bool* ignored_as_true) {
 
 }  // namespace
 
-namespace {
-
-// Written beside `path`, then renamed over it: a failed write leaves no partial file and keeps
-// what was there.
-void WriteWhole(const std::string& path, const std::string& text) {
-  std::error_code ignored;
-  const bool device = std::filesystem::exists(path, ignored) &&
-                      !std::filesystem::is_regular_file(path, ignored);  // e.g. /dev/stdout
-  const std::string temporary = device ? path : path + ".tmp";
-  errno = 0;
-  std::ofstream out(temporary, std::ios::trunc);
-  out << text;
-  out.close();  // checks the last buffer's write too
-  if (!out || (!device && std::rename(temporary.c_str(), path.c_str()) != 0)) {
-    const std::string reason = errno != 0 ? std::strerror(errno) : "unknown error";
-    if (!device) std::remove(temporary.c_str());
-    throw InputError(path, "cannot write the report (" + reason + ")");
-  }
-}
-
-}  // namespace
-
 void AddReportCommand(CLI::App& app) {
   struct Arguments {
     std::string run;
@@ -202,16 +181,12 @@ void AddReportCommand(CLI::App& app) {
   AddTimeLimitOption(*report, &arguments->time_limit_ms);
   AddIgnoredAsTrueFlag(*report, &arguments->ignored_as_true);
   report->callback([arguments] {
-    for (const std::string* input :
-         {&arguments->run, &arguments->ground_truth, &arguments->images}) {
-      if (input->empty()) continue;
-      std::error_code error;
-      if (std::filesystem::equivalent(arguments->out, *input, error)) {
-        throw InputError(arguments->out,
-                         "is an input of the report too: give --out another file (it would be "
-                         "overwritten)");
-      }
-    }
+    std::error_code error;
+    const bool image_folder = std::filesystem::is_directory(arguments->images, error);
+    CheckOutputsAreNotInputs({{"the run's CSV", arguments->run},
+                              {"the ground truth", arguments->ground_truth},
+                              {"--images", arguments->images, image_folder}},
+                             {{"--out", arguments->out}});
     if (arguments->ground_truth.empty() && arguments->ignored_as_true) {
       throw CLI::ValidationError("--ignored-as-true", "needs the ground truth");
     }
@@ -231,7 +206,7 @@ void AddReportCommand(CLI::App& app) {
                    arguments->time_limit_ms, arguments->ignored_as_true);
       page = MakeReport(evaluated.rows, evaluated.truth, evaluated.evaluation, options);
     }
-    WriteWhole(arguments->out, page);
+    WriteWholeFile(arguments->out, "the report", page);
     std::cout << "wrote " << arguments->out << "\n";
   });
 }

@@ -1,12 +1,13 @@
 // memloop export MAP.db [--format json|g2o|tum] [--intrinsics fx,fy,cx,cy] --out FILE: the map's
 // loop closures for a SLAM back-end, read without changing the map.
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "command_files.h"
 #include "commands.h"
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
+#include "memloop/map_info.h"
 
 namespace memloop::cli {
 namespace {
@@ -93,13 +94,15 @@ void AddExportCommand(CLI::App& app) {
                                                " writes relative poses: give the camera's "
                                                "--intrinsics fx,fy,cx,cy");
     }
+    CheckOutputsAreNotInputs(MapFiles(arguments->map, "the map"), {{"--out", arguments->out}});
+    if (const long writer = MapWriterProcess(arguments->map); writer != 0) {
+      std::cout << "note: " << arguments->map << " is being written by another process"
+                << (writer > 0 ? " (pid " + std::to_string(writer) + ")" : std::string())
+                << ": this exports what it has committed so far\n";
+    }
     const std::vector<ExportedLoopClosure> loops = ExportLoopClosures(arguments->map, intrinsics);
     if (format == ExportFormat::kJson) {
-      std::ofstream out(arguments->out);
-      if (!out) throw InputError(arguments->out, "cannot write the export file");
-      out << Json(loops, intrinsics).dump(2) << "\n";
-      out.close();
-      if (!out) throw InputError(arguments->out, "writing the export failed (disk full?)");
+      WriteWholeFile(arguments->out, "the export file", Json(loops, intrinsics).dump(2) + "\n");
     } else {
       WriteLoopClosures(loops, format, intrinsics, arguments->out);
     }

@@ -34,6 +34,8 @@ nlohmann::json Json(const MapInfo& info) {
                         {"last_timestamp", stamp(session.last_timestamp)}});
   }
   return {{"path", info.path},
+          {"writer_pid",
+           info.writer_pid == 0 ? nlohmann::json(nullptr) : nlohmann::json(info.writer_pid)},
           {"format_version", info.format_version},
           {"integrity", info.integrity},
           {"images", info.images},
@@ -52,6 +54,11 @@ nlohmann::json Json(const MapInfo& info) {
 void PrintText(const MapInfo& info) {
   std::printf("map %s (format %d, integrity: %s)\n", info.path.c_str(), info.format_version,
               info.integrity.c_str());
+  if (info.writer_pid != 0) {
+    std::printf(
+        "being written by another process%s: what it has committed so far\n",
+        info.writer_pid > 0 ? (" (pid " + std::to_string(info.writer_pid) + ")").c_str() : "");
+  }
   std::printf("images: %lld (last: %d)\n", info.images, info.last_image);
   std::printf("locations: %lld in LTM, %lld in STM/WM at the last checkpoint\n", info.locations,
               info.checkpoint_locations);

@@ -1,5 +1,7 @@
 #include "interrupt.h"
 
+#include <unistd.h>
+
 #include <csignal>
 
 namespace memloop::cli {
@@ -7,7 +9,22 @@ namespace {
 
 volatile std::sig_atomic_t received = 0;
 
-void Record(int signal) { received = signal; }
+// The first signal ends the run after the current image; a second one ends the process now,
+// saying so (the map is as a kill leaves it: it resumes from its last checkpoint).
+void Record(int signal) {
+  if (received == 0) {
+    received = signal;
+    static const char kFirst[] =
+        "memloop: stopping after the current image (a second signal stops at once)\n";
+    [[maybe_unused]] const ssize_t wrote = write(STDERR_FILENO, kFirst, sizeof(kFirst) - 1);
+    return;
+  }
+  static const char kLine[] =
+      "memloop: a second signal: stopping now; the map goes on from its last checkpoint with "
+      "--resume\n";
+  [[maybe_unused]] const ssize_t wrote = write(STDERR_FILENO, kLine, sizeof(kLine) - 1);
+  _exit(128 + signal);
+}
 
 struct sigaction previous_int {};
 struct sigaction previous_term {};
@@ -19,9 +36,8 @@ InterruptWatch::InterruptWatch() {
   struct sigaction action {};
   action.sa_handler = Record;
   sigemptyset(&action.sa_mask);
-  // SA_RESTART: SQLite's and the image readers' system calls go on; SA_RESETHAND: a second signal
-  // takes the default action.
-  action.sa_flags = SA_RESTART | SA_RESETHAND;
+  // SA_RESTART: SQLite's and the image readers' system calls go on.
+  action.sa_flags = SA_RESTART;
   sigaction(SIGINT, &action, &previous_int);
   sigaction(SIGTERM, &action, &previous_term);
 }

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "command_files.h"
 #include "commands.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
@@ -45,7 +46,7 @@ void AddRunCommand(CLI::App& app) {
     std::string topic;
     int camera = -1;
     double rate_hz = 0;
-    int realtime_priority = 0;
+    int realtime_priority = kUsualScheduling;
     double pace_hz = 0;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -132,6 +133,10 @@ void AddRunCommand(CLI::App& app) {
     session.input = arguments->input;
     session.realtime_priority = arguments->realtime_priority;
     session.pace_hz = arguments->pace_hz;
+    session.inputs = RunInputs(arguments->input, sequence_options);
+    for (NamedPath& file : FileIfGiven(arguments->config, "the parameter file (--config)")) {
+      session.inputs.push_back(std::move(file));
+    }
     const SessionReport report =
         RunSession(*sequence, options, arguments->database, arguments->out, session);
     std::cout << Summary(report) << "\n";

@@ -18,6 +18,7 @@
 #include <optional>
 #include <thread>
 
+#include "command_files.h"
 #include "interrupt.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
@@ -25,6 +26,7 @@
 #include "memloop/realtime.h"
 #include "memloop/run_csv.h"
 #include "progress.h"
+#include "storage/map_writer_lock.h"
 
 namespace memloop::cli {
 namespace {
@@ -53,7 +55,7 @@ void RemoveOrphanedTemporaryMaps(const fs::path& folder) {
 // A map file and its WAL files.
 void RemoveMap(const std::string& path) {
   std::error_code ignored;
-  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
+  for (const char* suffix : {"", "-wal", "-shm", "-lock"}) fs::remove(path + suffix, ignored);
 }
 
 // A map file in the temporary folder, removed (with its WAL files) when this goes: at the end,
@@ -75,18 +77,17 @@ class TemporaryDatabase {
   std::string path_;
 };
 
-// The results file and the map must be two files (the CSV would overwrite the map, or the map
-// the CSV).
-void CheckDistinct(const std::string& csv_path, const std::string& database_path) {
-  if (database_path.empty()) return;
-  std::error_code error;
-  const bool same =
-      fs::exists(csv_path, error) && fs::exists(database_path, error)
-          ? fs::equivalent(csv_path, database_path, error)
-          : fs::weakly_canonical(csv_path, error) == fs::weakly_canonical(database_path, error);
-  if (same) {
-    throw InputError(csv_path, "is the map (--db) too: give the results (--out) another file");
+// The CSV and the map are outputs (the map an input too when localizing against it), and neither
+// is an input nor the other, however spelled.
+void CheckOutputs(const std::string& csv_path, const std::string& database_path, bool localizing,
+                  const SessionOptions& session) {
+  std::vector<NamedPath> inputs = session.inputs;
+  std::vector<NamedPath> outputs;
+  for (NamedPath& file : MapFiles(database_path, "the map (--db)")) {
+    (localizing ? inputs : outputs).push_back(std::move(file));
   }
+  outputs.push_back({"--out", csv_path});  // the one refused when it is the map
+  CheckOutputsAreNotInputs(inputs, outputs);
 }
 
 // Runs a write of the CSV; when it fails (a full disk), the map closes at the checkpoint of the
@@ -157,7 +158,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
     throw ParameterError(session.resume ? "--resume" : "--new-session",
                          "needs the map to extend (--db)");
   }
-  if (session.realtime_priority != 0) {  // 0: the usual scheduling; out of range is refused
+  if (session.realtime_priority != kUsualScheduling) {  // out of range (0 too) is refused
     try {
       SetThisThreadsRealTimePriority(session.realtime_priority);
     } catch (const Error& error) {
@@ -168,7 +169,12 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
   }
   // Outputs are checked before anything is created or opened for writing: a refused run leaves
   // no file behind and changes none.
-  if (!csv_path.empty()) CheckDistinct(csv_path, database_path);
+  CheckOutputs(csv_path, database_path, localizing, session);
+  if (extends || localizing) {
+    ThrowIfBeingWritten(database_path, localizing       ? "localize against it"
+                                       : session.resume ? "resume"
+                                                        : "add a session to it");
+  }
   if (!csv_path.empty() && !session.resume) RunCsvWriter::CheckCanCreate(csv_path);
   if (session.resume) {
     // A map whose checkpoint cannot be read is refused by the detector below, saying why.
@@ -183,7 +189,14 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       // A later session's CSV holds that session's images only.
       const long long images = progress->last_session.id > 0 ? progress->last_session.images
                                                              : progress->images_processed;
-      if (!csv_path.empty()) RunCsvWriter::CheckContinues(csv_path, progress->last_image, images);
+      // A run killed after the map's last checkpoint has up to two checkpoints' images more in
+      // its CSV (options.h, memory.checkpoint_interval), with T_time on skipped ones too.
+      const long long rows_after =
+          2LL * std::max(1, options.memory.checkpoint_interval) +
+          (options.memory.time_limit_ms > 0 ? options.memory.checkpoint_max_skipped : 0);
+      if (!csv_path.empty()) {
+        RunCsvWriter::CheckContinues(csv_path, progress->last_image, images, rows_after);
+      }
     }
   }
   if (session.new_session) ReadMapProgress(database_path);  // refused before anything is opened

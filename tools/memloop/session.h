@@ -1,11 +1,13 @@
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "memloop/image_sequence.h"
 #include "memloop/options.h"
 #include "memloop/result.h"
+#include "util/output_files.h"
 
 namespace memloop::cli {
 
@@ -19,13 +21,19 @@ struct SessionReport {
   double time_target = 1;
 };
 
+// SessionOptions::realtime_priority when --realtime-priority is not given.
+constexpr int kUsualScheduling = std::numeric_limits<int>::min();
+
 struct SessionOptions {
   bool resume = false;              // go on with the map at the database path
   bool print_loop_closures = true;  // a line on stdout per loop closure, as it is found
   bool new_session = false;         // a new session in the map at the database path
   std::string input;                // names the input in errors ("" for a camera)
-  int realtime_priority = 0;        // 1-99: the per-image threads under SCHED_FIFO at it (0: not)
-  double pace_hz = 0;               // > 0: frames handed over at most this many a second
+  // 1-99: the per-image threads under SCHED_FIFO at it; any other value given is refused.
+  int realtime_priority = kUsualScheduling;
+  double pace_hz = 0;  // > 0: frames handed over at most this many a second
+  // The files the command reads (its input, --config): neither the CSV nor the map may be one.
+  std::vector<NamedPath> inputs;
 };
 
 // Feeds every frame of `sequence` to a Detector writing its map to `database_path` ("" = a

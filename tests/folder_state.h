@@ -1,0 +1,66 @@
+// What a refused command must leave as it was: a folder's files and their bytes.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "cli_helpers.h"
+
+namespace memloop {
+
+// Every file of a folder (recursively) with its bytes: compared before and after a refusal.
+inline std::map<std::string, std::string> FolderState(const std::string& folder) {
+  std::map<std::string, std::string> state;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+    std::error_code error;  // a looping symlink has no type
+    if (entry.is_regular_file(error))
+      state[entry.path().string()] = ReadFile(entry.path().string());
+  }
+  return state;
+}
+
+// The files that differ between two states, by name: for a readable failure message.
+inline std::string Differences(const std::map<std::string, std::string>& before,
+                               const std::map<std::string, std::string>& after) {
+  std::string text;
+  for (const auto& [path, bytes] : after) {
+    const auto old = before.find(path);
+    if (old == before.end())
+      text += " created " + path;
+    else if (old->second != bytes)
+      text += " changed " + path;
+  }
+  for (const auto& [path, bytes] : before) {
+    if (!after.count(path)) text += " removed " + path;
+  }
+  return text;
+}
+
+// Lines of a refusal's output, CLI11's "Run with --help" hint after a usage error aside.
+inline int MessageLines(const std::string& output) {
+  std::istringstream in(output);
+  int count = 0;
+  for (std::string line; std::getline(in, line);) {
+    count += !line.empty() && !Contains(line, "Run with --help");
+  }
+  return count;
+}
+
+// `arguments` run with `folder` mounted read-only, in a mount namespace of their own (needs
+// the privilege to mount: none when unshare is refused).
+inline std::optional<Outcome> MemloopWithFolderReadOnly(const std::string& folder,
+                                                        const std::string& arguments) {
+  const std::string mount = "mount --bind " + folder + " " + folder +
+                            " && mount -o remount,ro,bind " + folder + " " + folder;
+  if (std::system(("unshare -m sh -c '" + mount + "' >/dev/null 2>&1").c_str()) != 0) {
+    return std::nullopt;
+  }
+  return MemloopWithEnvironment("unshare -m sh -c '" + mount + " && exec \"$0\" \"$@\"'",
+                                arguments);
+}
+
+}  // namespace memloop
