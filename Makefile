@@ -1,6 +1,6 @@
 # The two commands of the README, for a fresh Debian 12 machine:
 #   make demo   installs what is missing, builds the library and CLI (Release), runs the demo
-#   make test   installs what is missing, builds, runs every test through ctest
+#   make test   installs what is missing (ROS 1 too), builds, runs every test through ctest
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev liblz4-dev libsqlite3-dev \
@@ -10,10 +10,16 @@ PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev li
 # Only the tests need a browser (they open `memloop report` in headless Chromium), pytest and
 # cv2 (the Python module's tests read images as a user's script does).
 TEST_PACKAGES := chromium python3-pytest python3-opencv
-# Only bench/tight_time.sh's PAUSES needs oslat (the machine's own pauses).
-BENCH_PACKAGES := rt-tests
+# The ROS 1 node (ros/, docs/ros.md) and its tests' roscore: Debian's ROS packages. Without
+# them everything else builds; the node is not.
+ROS_PACKAGES := libroscpp-dev libimage-transport-dev libdiagnostic-msgs-dev libstd-srvs-dev \
+                libgeometry-msgs-dev libstd-msgs-dev ros-std-msgs ros-geometry-msgs \
+                python3-gencpp python3-genpy python3-geometry-msgs ros-core
+# bench/tight_time.sh's PAUSES needs oslat (the machine's own pauses); bench/ros_live.sh rospy's
+# diagnostics messages and cv2.
+BENCH_PACKAGES := rt-tests python3-diagnostic-msgs python3-sensor-msgs python3-opencv
 
-.PHONY: all deps test-deps bench-deps install-packages configure build demo test bench docs format clean
+.PHONY: all deps test-deps ros-deps bench-deps install-packages configure build demo test bench docs format clean
 
 all: build
 
@@ -23,6 +29,9 @@ deps:
 
 test-deps:
 	@$(MAKE) --no-print-directory install-packages WANTED="$(TEST_PACKAGES)"
+
+ros-deps:
+	@$(MAKE) --no-print-directory install-packages WANTED="$(ROS_PACKAGES)"
 
 bench-deps:
 	@$(MAKE) --no-print-directory install-packages WANTED="$(BENCH_PACKAGES)"
@@ -51,7 +60,8 @@ demo: configure
 	cmake --build $(BUILD_DIR) -j$(JOBS) --target memloop_cli
 	./$(BUILD_DIR)/memloop demo
 
-test: build test-deps
+# ROS first: the node is configured and built only when its packages are there.
+test: ros-deps test-deps build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 bench: build

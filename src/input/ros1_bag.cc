@@ -59,15 +59,7 @@ class Ros1Bag : public BagSource {
       }
       const auto image = message.instantiate<sensor_msgs::Image>();
       frame->timestamp = image->header.stamp.isZero() ? recorded : image->header.stamp.toSec();
-      RawImage raw;
-      raw.height = image->height;
-      raw.width = image->width;
-      raw.step = image->step;
-      raw.encoding = image->encoding;
-      raw.big_endian = image->is_bigendian != 0;
-      raw.data = image->data.data();
-      raw.size = image->data.size();
-      frame->image = DecodeRawImage(raw, &frame->error);
+      frame->image = DecodeRawImage(RawImageOf(*image), &frame->error);
     } catch (const std::exception& failure) {  // rosbag and ros::serialization exceptions
       frame->error = std::string("message does not decode (") + failure.what() + ")";
     }

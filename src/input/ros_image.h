@@ -15,6 +15,20 @@ struct RawImage {
   size_t size = 0;
 };
 
+// The pixels of a sensor_msgs/Image: ROS 1's C++ message, or any type with its fields.
+template <typename ImageMessage>
+RawImage RawImageOf(const ImageMessage& image) {
+  RawImage raw;
+  raw.height = image.height;
+  raw.width = image.width;
+  raw.step = image.step;
+  raw.encoding = image.encoding;
+  raw.big_endian = image.is_bigendian != 0;
+  raw.data = image.data.data();
+  raw.size = image.data.size();
+  return raw;
+}
+
 // An 8-bit gray or BGR image (a copy), or empty with `error` saying why (an encoding memloop does
 // not read, data shorter than height x step).
 cv::Mat DecodeRawImage(const RawImage& image, std::string* error);
