@@ -196,6 +196,7 @@ PYBIND11_MODULE(memloop, m) {
             return pairs;
           })
       .def_readonly("has_pose", &LoopGeometry::has_pose)
+      .def_readonly("pose_problem", &LoopGeometry::pose_problem)
       .def_readonly("rotation", &LoopGeometry::rotation)
       .def_readonly("quaternion", &LoopGeometry::quaternion)
       .def_readonly("translation", &LoopGeometry::translation)

@@ -1,5 +1,9 @@
-// What a refused command must leave as it was: a folder's files and their bytes.
+// What a refused command must leave as it was (a folder's files and their bytes), and the means
+// to make what it refuses (a map edited by another tool, a read-only folder).
 #pragma once
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -61,6 +65,17 @@ inline std::optional<Outcome> MemloopWithFolderReadOnly(const std::string& folde
   }
   return MemloopWithEnvironment("unshare -m sh -c '" + mount + " && exec \"$0\" \"$@\"'",
                                 arguments);
+}
+
+// Runs `sql` on a map (a copy, for a test's damaged map), as a tool that edits the file would.
+inline void Edit(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* message = nullptr;
+  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
+      << (message ? message : "");
+  sqlite3_free(message);
+  sqlite3_close(db);
 }
 
 }  // namespace memloop

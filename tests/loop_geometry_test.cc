@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 
+#include "cli_helpers.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
@@ -23,18 +25,22 @@ Options WithCamera() {
   return options;
 }
 
+// The short route mapped into `map` with the camera known: its accepted loop closures.
+std::vector<Result> AcceptedOnTheShortRoute(const std::string& map) {
+  const SyntheticRoute route(testing::ShortRoute());
+  Detector detector(WithCamera(), map);
+  std::vector<Result> accepted;
+  for (int i = 0; i < route.size(); ++i) {
+    Result result = detector.Process(route.Render(i), i);
+    if (result.HasLoopClosure()) accepted.push_back(std::move(result));
+  }
+  return accepted;
+}
+
 TEST(LoopGeometryResultTest, AcceptedLoopClosuresCarryTheGeometryTheExportGives) {
   testing::TempDir dir;
-  const SyntheticRoute route(testing::ShortRoute());
   const std::string map = dir.File("map.db");
-  std::vector<Result> accepted;
-  {
-    Detector detector(WithCamera(), map);
-    for (int i = 0; i < route.size(); ++i) {
-      Result result = detector.Process(route.Render(i), i);
-      if (result.HasLoopClosure()) accepted.push_back(std::move(result));
-    }
-  }
+  const std::vector<Result> accepted = AcceptedOnTheShortRoute(map);
   ASSERT_GT(accepted.size(), 20u);
   int with_inliers = 0;
   int posed = 0;
@@ -79,10 +85,51 @@ TEST(LoopGeometryResultTest, AcceptedLoopClosuresCarryTheGeometryTheExportGives)
     EXPECT_EQ(loop.geometry.inliers.size(), same->second->inliers.size());
     EXPECT_EQ(loop.geometry.has_pose, same->second->has_pose);
     if (loop.geometry.has_pose) {
-      EXPECT_EQ(loop.geometry.rotation, same->second->rotation);
+      for (int k = 0; k < 9; ++k) {
+        EXPECT_NEAR(loop.geometry.rotation[k], same->second->rotation[k], 1e-9);
+      }
     }
   }
   EXPECT_GT(compared, 0);  // rehearsal merges most query views into later locations
+}
+
+// Each accepted loop closure's geometry is kept in the map as it was found (before Rehearsal
+// merges its views): the export gives every one the pose the Result had, or the reason it had
+// none (before: the export estimated it from the merged locations, and most had none).
+TEST(LoopGeometryResultTest, TheMapKeepsEachLoopClosuresPoseOrWhyNot) {
+  testing::TempDir dir;
+  const std::string map = dir.File("map.db");
+  const std::vector<Result> accepted = AcceptedOnTheShortRoute(map);
+  const std::vector<ExportedLoopClosure> exported = ExportLoopClosures(map);
+  ASSERT_EQ(exported.size(), accepted.size());
+  int posed = 0, posed_before = 0;
+  for (size_t k = 0; k < accepted.size(); ++k) {
+    const LoopGeometry& found = accepted[k].loop_closure_geometry;
+    const LoopClosurePose& kept = exported[k].loop.pose;
+    EXPECT_EQ(exported[k].loop.query_image, accepted[k].image_index);
+    EXPECT_TRUE(kept.estimated);
+    EXPECT_EQ(kept.has_pose, found.has_pose);
+    EXPECT_EQ(kept.inliers, static_cast<int>(found.inliers.size()));
+    EXPECT_EQ(kept.has_pose, kept.reason.empty()) << kept.reason;
+    EXPECT_EQ(kept.reason, found.pose_problem);
+    const LoopGeometry& g = exported[k].geometry;
+    EXPECT_TRUE(g.pose_from_detection);
+    EXPECT_EQ(g.has_pose, found.has_pose);
+    if (found.has_pose) {
+      ++posed;
+      for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(kept.quaternion[i], found.quaternion[i]);
+      for (int i = 0; i < 9; ++i) EXPECT_NEAR(g.rotation[i], found.rotation[i], 1e-9);
+    }
+  }
+  // What an export from the merged locations alone finds, for comparison.
+  for (const ExportedLoopClosure& loop : ExportLoopClosures(map, {301, 300, 160, 120})) {
+    posed_before += loop.geometry.has_pose;
+    EXPECT_FALSE(loop.geometry.pose_from_detection);  // other intrinsics: estimated anew
+  }
+  EXPECT_GT(posed, posed_before);
+  std::printf(
+      "loop closures with a pose: %d of %zu kept at detection, %d from the map's locations\n",
+      posed, accepted.size(), posed_before);
 }
 
 TEST(LoopGeometryResultTest, NoIntrinsicsNoGeometryAndBothFocalLengthsNeeded) {
@@ -96,10 +143,51 @@ TEST(LoopGeometryResultTest, NoIntrinsicsNoGeometryAndBothFocalLengthsNeeded) {
       const Result result = detector.Process(route.Render(i), i);
       EXPECT_EQ(result.loop_closure_geometry.correspondences, 0);
       EXPECT_TRUE(result.loop_closure_geometry.inliers.empty());
+      if (result.HasLoopClosure()) {
+        EXPECT_EQ(result.loop_closure_geometry.pose_problem,
+                  "the camera's intrinsics are not set (camera.fx..cy)");
+      }
     }
   }
   options.camera.fx = 300;
   EXPECT_THROW(Detector(options, dir.File("half.db")), ParameterError);
+}
+
+// The run CSV: every loop closure's row has the relative pose (rel_tx..rel_qw, rel_metric) or the
+// reason it has none; the inliers column has the views' inliers (before: -1 on every row).
+TEST(LoopGeometryResultTest, EveryLoopClosureRowHasAPoseOrAReason) {
+  testing::TempDir dir;
+  SyntheticRoute(testing::ShortRoute()).Write(dir.path().string());
+  const std::string csv = dir.File("run.csv");
+  const Outcome run = Memloop("run " + dir.File("images") + " --out " + csv +
+                              " --set memory.time_limit_ms=0 camera.fx=300 camera.fy=300 "
+                              "camera.cx=160 camera.cy=120");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::istringstream in(ReadFile(csv));
+  std::string line;
+  std::getline(in, line);
+  std::map<std::string, size_t> column;
+  std::istringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) column[name] = column.size();
+  int loops = 0, posed = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    cells.resize(column.size());
+    if (cells[column.at("matched_image")].empty()) {
+      EXPECT_TRUE(cells[column.at("rel_qw")].empty() && cells[column.at("pose_reason")].empty());
+      continue;
+    }
+    ++loops;
+    const bool has_pose = !cells[column.at("rel_qw")].empty();
+    posed += has_pose;
+    EXPECT_NE(has_pose, cells[column.at("pose_reason")].size() > 2) << line;  // quoted
+    EXPECT_EQ(cells[column.at("rel_metric")], has_pose ? "0" : "") << line;
+    EXPECT_GE(std::stoi(cells[column.at("inliers")]), 0) << line;
+  }
+  EXPECT_GT(loops, 20);
+  EXPECT_GT(posed, 0);
 }
 
 }  // namespace

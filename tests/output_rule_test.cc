@@ -172,12 +172,7 @@ TEST_F(OutputRuleTest, EachRefusalNamesItsRealCause) {
   // Localization against a map whose checkpoint is damaged.
   const std::string damaged = dir_.File("checkpoint.db");
   fs::copy_file(map, damaged);
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(damaged.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE resume_state SET value=x'0102' WHERE key='counters'", nullptr,
-                         nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
+  Edit(damaged, "UPDATE resume_state SET value=x'0102' WHERE key='counters'");
   ExpectRefusedUntouched("run " + Images() + " --db " + damaged + " --set memory.localization=1", 1,
                          damaged + ": cannot localize against it: the map is damaged (");
   // A damaged ROS 2 bag.

@@ -72,17 +72,6 @@ TEST_F(RefusalTest, RefusedRunsChangeAndCreateNoFile) {
       "is also the run's CSV");
 }
 
-// Runs `sql` on a copy of a map, as a tool that edits the file would.
-void Edit(const std::string& path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  char* message = nullptr;
-  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
-      << (message ? message : "");
-  sqlite3_free(message);
-  sqlite3_close(db);
-}
-
 // Damaged, truncated and newer maps, and a damaged resume checkpoint: every use of them is
 // refused with one line, and no file is created or changed (before: SQLite left an empty -wal
 // and a 32 KB -shm beside each, and inspect printed the whole quick_check report, up to 101

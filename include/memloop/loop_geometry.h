@@ -16,6 +16,9 @@ namespace memloop {
 struct CameraIntrinsics {
   double fx = 0, fy = 0, cx = 0, cy = 0;
   bool known() const { return fx > 0 && fy > 0; }
+  bool operator==(const CameraIntrinsics& other) const {
+    return fx == other.fx && fy == other.fy && cx == other.cx && cy == other.cy;
+  }
 };
 // "fx,fy,cx,cy" (four numbers, fx and fy over 0); ParameterError naming `--intrinsics` otherwise.
 CameraIntrinsics ParseIntrinsics(const std::string& text);
@@ -40,6 +43,12 @@ struct LoopGeometry {
   // False when a rotation alone explains the matches (a baseline too short for a direction).
   bool translation_known = false;
   int pose_inliers = 0;  // of the model chosen (essential: in front of both cameras)
+  // Why there is no pose ("" when has_pose): too few correspondences or inliers, no model fits,
+  // or the intrinsics are unknown.
+  std::string pose_problem;
+  // `memloop export`: the pose is the one the map kept from when the loop closure was accepted
+  // (the two images' own keypoints), not one estimated from the map's locations now.
+  bool pose_from_detection = false;
 };
 
 }  // namespace memloop

@@ -20,7 +20,10 @@ struct ExportedLoopClosure {
   LoopGeometry geometry;
 };
 
-// Reads the map read-only. Throws DatabaseError as InspectMap does.
+// Reads the map read-only. Each loop closure's geometry is estimated from the map's locations
+// with `intrinsics` (the inliers); its pose is the one kept when it was accepted where the map
+// kept one with the same intrinsics (the map's camera.*; `intrinsics` unknown means those).
+// Throws DatabaseError as InspectMap does.
 std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                     const CameraIntrinsics& intrinsics = {});
 

@@ -1,6 +1,7 @@
 // What a map file holds, read without changing it (`memloop inspect`).
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -9,12 +10,25 @@
 
 namespace memloop {
 
+// An accepted loop closure's geometry as it was found (camera.fx..cy set then), kept with it:
+// the two images' own keypoints, before Rehearsal merges either into another location.
+struct LoopClosurePose {
+  bool estimated = false;  // the intrinsics were known: inliers and a pose or a reason
+  int inliers = -1;        // epipolar inliers of the two views (-1: not estimated)
+  bool has_pose = false;
+  bool metric = false;  // the translation is in metres; else a unit direction (0: unknown)
+  std::array<double, 3> translation{};           // the query camera in the match camera's frame
+  std::array<double, 4> quaternion{0, 0, 0, 1};  // x, y, z, w: x_match = R x_query + t
+  std::string reason;                            // why there is no pose ("" with one)
+};
+
 struct MapLoopClosure {
   ImageIndex query_image = kNoImage;
   ImageIndex match_image = kNoImage;
   LocationId query_location = kNoLocation;
   LocationId match_location = kNoLocation;
   double probability = 0;  // the hypothesis value that accepted it
+  LoopClosurePose pose;    // estimated = false in maps made before it was kept
 };
 
 // An image of the map: what Detector::Process was told of it (ImageInfo).

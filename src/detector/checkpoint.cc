@@ -496,6 +496,16 @@ std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database) {
   return state.counters;
 }
 
+bool MapHoldsNoImage(LtmDatabase& database) {
+  try {
+    return database.format_version() == LtmDatabase::kFormatVersion &&
+           !ReadCheckpointCounters(database) && database.CountLocations() == 0 &&
+           database.QueryNumber("SELECT count(*) FROM location_images") == 0;
+  } catch (const DatabaseError&) {
+    return false;
+  }
+}
+
 std::string CheckpointProblem(LtmDatabase& database) {
   if (database.format_version() < LtmDatabase::kOldestResumable) return "";  // not resumable anyway
   if (!database.ReadState(kCounters)) return "";

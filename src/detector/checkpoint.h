@@ -89,6 +89,11 @@ DetectorCounters RestoreCheckpoint(LtmDatabase& database, Memory& memory, BayesF
 // checkpoint. Throws DatabaseError naming the file when they are damaged.
 std::optional<DetectorCounters> ReadCheckpointCounters(LtmDatabase& database);
 
+// A map of this memloop's format with no checkpoint, no location and no image: what a run killed
+// before its first checkpoint was committed leaves; resumed, it starts afresh. False for a map
+// whose checkpoint cannot be read (resuming it says why).
+bool MapHoldsNoImage(LtmDatabase& database);
+
 // What is wrong with the map's resume checkpoint, read whole without the dictionary (inspect):
 // empty when it reads back, or the map holds none or one of an older format.
 std::string CheckpointProblem(LtmDatabase& database);

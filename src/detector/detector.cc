@@ -219,17 +219,10 @@ class Detector::Impl {
 
   // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
   // checking that the map was made with the same map-defining parameters.
-  // A map with no checkpoint, no location and no image: a run killed before its first checkpoint
-  // was committed (ltm_ holds it open to write).
+  // A map a run killed before its first checkpoint left (ltm_ holds it open to write).
   bool HoldsNoImage(const std::string& path) {
     LtmDatabase database(path, LtmDatabase::Mode::kAttach);
-    try {
-      return database.format_version() == LtmDatabase::kFormatVersion &&
-             !ReadCheckpointCounters(database) && database.CountLocations() == 0 &&
-             database.QueryNumber("SELECT count(*) FROM location_images") == 0;
-    } catch (const DatabaseError&) {
-      return false;  // damaged: Resume() says how
-    }
+    return MapHoldsNoImage(database);
   }
 
   void Resume(const std::string& path) {
@@ -420,15 +413,20 @@ class Detector::Impl {
     memory_.at(t).weight += memory_.at(i).weight + 1;
     editor_.LinkLoopClosure(t, i);
     result.loop_closure_images = memory_.at(i).images;  // with the past matches it absorbed
-    ltm_.RecordLoopClosure(
-        {result.image_index, memory_.at(i).images.front(), t, i, hypothesis.value});
     DescribeGeometry(t, i, result);
+    ltm_.RecordLoopClosure({result.image_index, memory_.at(i).images.front(), t, i,
+                            hypothesis.value,
+                            KeptPose(result.loop_closure_geometry, options_.camera.fx > 0)});
   }
 
   // camera.fx..cy: the two views' epipolar inliers and relative pose, for a SLAM back-end.
   void DescribeGeometry(LocationId t, LocationId i, Result& result) const {
     const CameraOptions& camera = options_.camera;
-    if (camera.fx <= 0) return;
+    if (camera.fx <= 0) {
+      result.loop_closure_geometry.pose_problem =
+          "the camera's intrinsics are not set (camera.fx..cy)";
+      return;
+    }
     result.loop_closure_geometry =
         EstimateLoopGeometry(memory_.at(t).signature, memory_.at(i).signature,
                              {camera.fx, camera.fy, camera.cx, camera.cy}, options_.verification);

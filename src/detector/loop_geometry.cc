@@ -159,13 +159,21 @@ LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match
   LoopGeometry geometry;
   const WordCorrespondences matched = UniqueWordCorrespondences(query, match);
   geometry.correspondences = matched.size();
-  if (matched.size() < 8) return geometry;  // the eight-point algorithm's minimum
+  if (matched.size() < 8) {  // the eight-point algorithm's minimum
+    geometry.pose_problem = std::to_string(matched.size()) +
+                            " word correspondences between the views (the epipolar fit needs 8)";
+    return geometry;
+  }
   std::vector<unsigned char> mask;
   cv::setRNGSeed(0);  // RANSAC's samples repeat: the same map exports the same file
   const cv::Mat fundamental =
       cv::findFundamentalMat(matched.in_a, matched.in_b, cv::FM_RANSAC, verification.ransac_pixels,
                              verification.ransac_confidence, mask);
-  if (fundamental.empty()) return geometry;
+  if (fundamental.empty()) {
+    geometry.pose_problem =
+        "no epipolar geometry fits the " + std::to_string(matched.size()) + " correspondences";
+    return geometry;
+  }
   std::vector<cv::Point2f> in_query, in_match;
   for (int i = 0; i < matched.size(); ++i) {
     if (!mask[i]) continue;
@@ -175,11 +183,35 @@ LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match
     in_query.push_back(q);
     in_match.push_back(m);
   }
-  if (intrinsics.known()) {
-    cv::setRNGSeed(0);
-    EstimatePose(in_query, in_match, intrinsics, verification.ransac_pixels, geometry);
+  if (!intrinsics.known()) {
+    geometry.pose_problem = "the camera's intrinsics are unknown (camera.fx..cy)";
+    return geometry;
+  }
+  cv::setRNGSeed(0);
+  EstimatePose(in_query, in_match, intrinsics, verification.ransac_pixels, geometry);
+  if (!geometry.has_pose) {
+    geometry.pose_problem = "no pose fits the " + std::to_string(in_query.size()) +
+                            " epipolar inliers (the five-point algorithm needs 5 in front of "
+                            "both cameras)";
   }
   return geometry;
+}
+
+LoopClosurePose KeptPose(const LoopGeometry& geometry, bool intrinsics_known) {
+  LoopClosurePose pose;
+  if (!intrinsics_known) {
+    pose.reason = "the camera's intrinsics were not set (camera.fx..cy)";
+    return pose;
+  }
+  pose.estimated = true;
+  pose.inliers = static_cast<int>(geometry.inliers.size());
+  pose.has_pose = geometry.has_pose;
+  if (geometry.has_pose) {
+    pose.translation = geometry.translation;
+    pose.quaternion = geometry.quaternion;
+  }
+  pose.reason = geometry.pose_problem;
+  return pose;
 }
 
 CameraIntrinsics ParseIntrinsics(const std::string& text) {

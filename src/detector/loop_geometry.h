@@ -4,6 +4,7 @@
 
 #include "detector/location.h"
 #include "memloop/loop_geometry.h"
+#include "memloop/map_info.h"
 #include "memloop/options.h"
 #include "vocabulary/signature.h"
 
@@ -14,6 +15,10 @@ namespace memloop {
 inline ImageIndex ViewOf(const Location& location) {
   return location.signature.image != kNoImage ? location.signature.image : location.images.front();
 }
+
+// What the map keeps of a loop closure's geometry (LoopClosurePose): `estimated` when the
+// intrinsics were known, else a reason saying they were not.
+LoopClosurePose KeptPose(const LoopGeometry& geometry, bool intrinsics_known);
 
 // RANSAC is seeded: the same views give the same geometry.
 LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match,

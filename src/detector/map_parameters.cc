@@ -43,13 +43,10 @@ void CheckMapParameters(LtmDatabase& database, const Options& options) {
 
 MapProgress ReadMapProgress(const std::string& path) {
   LtmDatabase database(path, LtmDatabase::Mode::kRead);
-  const std::optional<DetectorCounters> counters = ReadCheckpointCounters(database);
   // A run killed before its first checkpoint leaves a map that holds nothing: resumed, it starts
   // afresh (Detector, MapMode::kResume).
-  if (!counters && database.CountLocations() == 0 &&
-      database.QueryNumber("SELECT count(*) FROM location_images") == 0) {
-    return MapProgress();
-  }
+  if (MapHoldsNoImage(database)) return MapProgress();
+  const std::optional<DetectorCounters> counters = ReadCheckpointCounters(database);
   if (!counters) {
     throw DatabaseError(path,
                         "has no resume checkpoint (the run that made it stopped before its first "

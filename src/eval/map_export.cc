@@ -9,6 +9,25 @@
 
 namespace memloop {
 
+namespace {
+
+void UseKeptPose(const LoopClosurePose& pose, LoopGeometry& geometry) {
+  geometry.pose_from_detection = true;
+  geometry.has_pose = pose.has_pose;
+  geometry.pose_problem = pose.reason;
+  if (!pose.has_pose) return;
+  geometry.quaternion = pose.quaternion;
+  geometry.translation = pose.translation;
+  geometry.translation_known = pose.translation != std::array<double, 3>{};
+  geometry.pose_inliers = pose.inliers;
+  const auto [x, y, z, w] = pose.quaternion;
+  geometry.rotation = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+                       2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                       2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+}
+
+}  // namespace
+
 std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                     const CameraIntrinsics& intrinsics) {
   const Options options = ReadMapOptions(map_path);
@@ -42,6 +61,15 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                intrinsics, options.verification);
       exported.geometry.query_view = ViewOf(query_location);
       exported.geometry.match_view = ViewOf(match_location);
+    } else {
+      exported.geometry.pose_problem = "a view is not in the map's LTM (the map is not closed)";
+    }
+    // The pose found when the loop closure was accepted compares the two images themselves;
+    // Rehearsal may have merged either into another location since (fewer correspondences).
+    const CameraIntrinsics kept_camera{options.camera.fx, options.camera.fy, options.camera.cx,
+                                       options.camera.cy};
+    if (loop.pose.estimated && (!intrinsics.known() || intrinsics == kept_camera)) {
+      UseKeptPose(loop.pose, exported.geometry);
     }
     loops.push_back(std::move(exported));
   }

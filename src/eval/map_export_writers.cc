@@ -21,7 +21,7 @@ void WritePoses(const std::vector<ExportedLoopClosure>& loops, const char* heade
     const LoopGeometry& g = loop.geometry;
     if (!g.has_pose) {
       out << "# image " << loop.query.index << " -> image " << loop.match.index
-          << ": no relative pose (" << g.inliers.size() << " inliers)\n";
+          << ": no relative pose (" << g.pose_problem << ")\n";
       continue;
     }
     char text[512];

@@ -38,7 +38,7 @@ constexpr const char* kHeader =
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
     "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session,features_skipped,appearance_match,"
-    "appearance_z";
+    "appearance_z,rel_tx,rel_ty,rel_tz,rel_qx,rel_qy,rel_qz,rel_qw,rel_metric,pose_reason";
 
 // Seconds to the microsecond (TUM's resolution; EuRoC's nanoseconds are beyond a double's
 // precision at today's epoch anyway); empty when unknown.
@@ -46,6 +46,29 @@ std::string FormatTimestamp(double timestamp) {
   if (!HasTimestamp(timestamp)) return "";
   char text[64];
   std::snprintf(text, sizeof(text), "%.6f", timestamp);
+  return text;
+}
+
+// The epipolar inliers of the hypothesis (verify.min_inliers) or, when they were not checked,
+// of the accepted loop closure's two views (camera.fx..cy); -1 when neither was.
+int Inliers(const Result& result) {
+  const LoopGeometry& geometry = result.loop_closure_geometry;
+  if (result.hypothesis_inliers >= 0 || geometry.correspondences < 8) {
+    return result.hypothesis_inliers;
+  }
+  return static_cast<int>(geometry.inliers.size());
+}
+
+// rel_tx..rel_qw, rel_metric, pose_reason: the query camera in the match camera's frame, or, for
+// a loop closure without a pose, why; empty for an image without a loop closure.
+std::string RelativePose(const Result& result) {
+  if (!result.HasLoopClosure()) return ",,,,,,,,";
+  const LoopGeometry& g = result.loop_closure_geometry;
+  if (!g.has_pose) return ",,,,,,,," + Quoted(g.pose_problem);
+  char text[256];
+  std::snprintf(text, sizeof(text), "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,0,", g.translation[0],
+                g.translation[1], g.translation[2], g.quaternion[0], g.quaternion[1],
+                g.quaternion[2], g.quaternion[3]);
   return text;
 }
 
@@ -182,7 +205,7 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   }
   row << ',' << result.hypothesis_id << ',' << result.hypothesis_value << ','
       << Join(result.hypothesis_images) << ',' << result.hypothesis_eligible << ','
-      << result.hypothesis_inliers << ',' << result.virtual_place_probability << ','
+      << Inliers(result) << ',' << result.virtual_place_probability << ','
       << result.rehearsal_merged_id << ',' << result.feature_count << ',' << result.word_count
       << ',' << t.total_ms << ',' << t.signature_ms << ',' << t.rehearsal_ms << ','
       << t.likelihood_ms << ',' << t.filter_ms << ',' << t.selection_ms << ',' << t.retrieval_ms
@@ -196,7 +219,7 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   } else {
     row << ',';
   }
-  row << '\n';
+  row << ',' << RelativePose(result) << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();

@@ -213,6 +213,7 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
   if (mode == Mode::kCreate) CreateSchema();
   CreateAppearanceTables();
   CreateImageTable();
+  CreateLoopClosurePoseTable();
 }
 
 void LtmDatabase::CreateAppearanceTables() {
@@ -417,18 +418,6 @@ void LtmDatabase::LimitPages(long long pages) {
   connection_.Execute("PRAGMA max_page_count=" + std::to_string(pages));
 }
 
-void LtmDatabase::WriteLoopClosure(const LoopClosureRecord& record) {
-  Cached(
-      "INSERT INTO loop_closures(query_image, match_image, query_location, match_location,"
-      " probability) VALUES(?,?,?,?,?)")
-      .Bind(1, static_cast<long long>(record.query_image))
-      .Bind(2, static_cast<long long>(record.match_image))
-      .Bind(3, static_cast<long long>(record.query_location))
-      .Bind(4, static_cast<long long>(record.match_location))
-      .Bind(5, record.probability)
-      .Run();
-}
-
 void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
   Cached("INSERT OR REPLACE INTO info(key, value) VALUES(?,?)").Bind(1, key).Bind(2, value).Run();
 }
@@ -622,20 +611,6 @@ std::optional<std::vector<unsigned char>> LtmDatabase::ReadWord(WordId id) {
   if (query.Step()) descriptor = query.Blob(0);
   query.Reset();
   return descriptor;
-}
-
-std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
-  auto& query = Cached(
-      "SELECT query_image, match_image, query_location, match_location, probability"
-      " FROM loop_closures ORDER BY rowid");
-  std::vector<LoopClosureRecord> records;
-  while (query.Step()) {
-    records.push_back({static_cast<ImageIndex>(query.Int(0)), static_cast<ImageIndex>(query.Int(1)),
-                       static_cast<LocationId>(query.Int(2)), static_cast<LocationId>(query.Int(3)),
-                       query.Double(4)});
-  }
-  query.Reset();
-  return records;
 }
 
 std::string LtmDatabase::ReadInfo(const std::string& key) {

@@ -87,6 +87,8 @@ class LtmDatabase {
   void RedirectLocation(LocationId absorbed, LocationId survivor);
   // A link of `from` (neighbour or loop closure) to `to`, kept when it exists already.
   void WriteLink(LocationId from, LocationId to, bool loop_closure);
+  // With its pose (ltm_loop_closures.cc): maps made before the poses' table get it when opened
+  // to write; read-only, their loop closures read with no pose estimated.
   void WriteLoopClosure(const LoopClosureRecord& record);
   void WriteInfo(const std::string& key, const std::string& value);
   void WriteCheckpoint(const CheckpointData& checkpoint);
@@ -143,6 +145,7 @@ class LtmDatabase {
   void CreateSchema();
   void CreateAppearanceTables();
   void CreateImageTable();
+  void CreateLoopClosurePoseTable();
   bool HasTable(const std::string& name);
   // Whether the map holds exactly `signature` as location `id`'s words (WriteLocation).
   bool StoredSignatureIs(LocationId id, const Signature& signature);
@@ -158,6 +161,7 @@ class LtmDatabase {
   std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
   std::optional<bool> has_views_;         // the location_views table, once looked for
   std::optional<bool> has_whole_images_;  // the whole_images table
+  std::optional<bool> has_poses_;         // the loop_closure_poses table
 };
 
 }  // namespace memloop

@@ -75,6 +75,43 @@ TEST(LtmDatabaseTest, RoundTrip) {
   EXPECT_EQ(database.ReadInfo("param.memory.stm_size"), "25");
 }
 
+// Each loop closure's pose as found when it was accepted: read back with it, a loop closure
+// without one (after one with one: a cached statement keeps its last values) says why, and one
+// of a map made without intrinsics reads as not estimated.
+TEST(LtmDatabaseTest, LoopClosurePosesAreKeptWithTheirLoopClosure) {
+  testing::TempDir dir;
+  const std::string path = dir.File("map.db");
+  LoopClosurePose posed;
+  posed.estimated = true;
+  posed.inliers = 37;
+  posed.has_pose = true;
+  posed.translation = {0.6, 0, -0.8};
+  posed.quaternion = {0, 0.6, 0, 0.8};
+  LoopClosurePose unposed;
+  unposed.estimated = true;
+  unposed.inliers = 3;
+  unposed.reason = "3 inliers";
+  {
+    LtmDatabase database(path, LtmDatabase::Mode::kCreate);
+    database.WriteLoopClosure({10, 2, 11, 3, 0.5, posed});
+    database.WriteLoopClosure({12, 4, 13, 5, 0.4, unposed});
+    database.WriteLoopClosure({14, 6, 15, 7, 0.3});  // intrinsics unknown: nothing kept
+  }
+  LtmDatabase database(path, LtmDatabase::Mode::kRead);
+  const auto loops = database.ReadLoopClosures();
+  ASSERT_EQ(loops.size(), 3u);
+  EXPECT_TRUE(loops[0].pose.has_pose);
+  EXPECT_EQ(loops[0].pose.inliers, 37);
+  EXPECT_EQ(loops[0].pose.translation, posed.translation);
+  EXPECT_EQ(loops[0].pose.quaternion, posed.quaternion);
+  EXPECT_TRUE(loops[1].pose.estimated);
+  EXPECT_FALSE(loops[1].pose.has_pose);
+  EXPECT_EQ(loops[1].pose.reason, "3 inliers");
+  EXPECT_EQ(loops[1].pose.translation, (std::array<double, 3>{}));
+  EXPECT_FALSE(loops[2].pose.estimated);
+  EXPECT_EQ(loops[2].query_image, 14);
+}
+
 // A location's whole-image descriptor (features.whole_image) is stored with it, read back on
 // retrieval, replaced, removed with it by a redirection; `memloop inspect` counts them.
 TEST(LtmDatabaseTest, WholeImageDescriptorsAreKeptWithTheirLocation) {

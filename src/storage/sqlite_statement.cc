@@ -90,6 +90,11 @@ SqliteStatement& SqliteStatement::BindBlob(int index, const void* data, int byte
   return *this;
 }
 
+SqliteStatement& SqliteStatement::BindNull(int index) {
+  connection_.Check(sqlite3_bind_null(statement_, index), "bind");
+  return *this;
+}
+
 bool SqliteStatement::Step() {
   const int code = sqlite3_step(statement_);
   connection_.Check(code, "cannot read or write the file");

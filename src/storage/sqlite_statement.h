@@ -41,6 +41,7 @@ class SqliteStatement {
   SqliteStatement& Bind(int index, double value);
   SqliteStatement& Bind(int index, const std::string& value);
   SqliteStatement& BindBlob(int index, const void* data, int bytes);
+  SqliteStatement& BindNull(int index);
   // True while a row is available.
   bool Step();
   // Runs to completion and resets, for statements without result rows.

@@ -5,6 +5,7 @@
 
 #include "command_files.h"
 #include "commands.h"
+#include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
 #include "memloop/map_info.h"
@@ -39,15 +40,18 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
               {"quaternion_xyzw", g.quaternion},
               {"translation_direction",
                g.translation_known ? nlohmann::json(g.translation) : nlohmann::json(nullptr)},
-              {"inliers", g.pose_inliers}};
+              {"inliers", g.pose_inliers},
+              {"source", g.pose_from_detection ? "detection" : "export"}};
     }
-    rows.push_back({{"query", ImageJson(loop.query, loop.loop.query_location)},
-                    {"match", ImageJson(loop.match, loop.loop.match_location)},
-                    {"hypothesis_value", loop.loop.probability},
-                    {"views", {g.query_view, g.match_view}},
-                    {"correspondences", g.correspondences},
-                    {"inliers", inliers},
-                    {"pose", pose}});
+    rows.push_back(
+        {{"query", ImageJson(loop.query, loop.loop.query_location)},
+         {"match", ImageJson(loop.match, loop.loop.match_location)},
+         {"hypothesis_value", loop.loop.probability},
+         {"views", {g.query_view, g.match_view}},
+         {"correspondences", g.correspondences},
+         {"inliers", inliers},
+         {"pose", pose},
+         {"pose_reason", g.has_pose ? nlohmann::json(nullptr) : nlohmann::json(g.pose_problem)}});
   }
   nlohmann::json camera = nullptr;
   if (intrinsics.known()) {
@@ -59,6 +63,11 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
            "x_match = R x_query + t, |t| = 1 (the query camera in the match "
            "camera's frame; a single camera gives no scale)"},
           {"loop_closures", rows}};
+}
+
+CameraIntrinsics MapCamera(const std::string& map) {
+  const CameraOptions camera = ReadMapOptions(map).camera;
+  return {camera.fx, camera.fy, camera.cx, camera.cy};
 }
 
 }  // namespace
@@ -83,18 +92,20 @@ void AddExportCommand(CLI::App& app) {
       ->check(CLI::IsMember({"json", "g2o", "tum"}));
   command->add_option("--intrinsics", arguments->intrinsics,
                       "Camera intrinsics fx,fy,cx,cy in pixels: the relative pose from the "
-                      "essential matrix");
+                      "essential matrix; default: the map's camera.fx..cy, if set");
   command->add_option("--out", arguments->out, "File to write")->required();
   command->callback([arguments] {
     const ExportFormat format = ParseExportFormat(arguments->format);
-    const CameraIntrinsics intrinsics =
-        arguments->intrinsics.empty() ? CameraIntrinsics() : ParseIntrinsics(arguments->intrinsics);
+    CheckOutputsAreNotInputs(MapFiles(arguments->map, "the map"), {{"--out", arguments->out}});
+    // Without --intrinsics, the map's own (camera.fx..cy, with which its poses were found).
+    const CameraIntrinsics intrinsics = arguments->intrinsics.empty()
+                                            ? MapCamera(arguments->map)
+                                            : ParseIntrinsics(arguments->intrinsics);
     if (format != ExportFormat::kJson && !intrinsics.known()) {
       throw ParameterError("--intrinsics", "--format " + arguments->format +
                                                " writes relative poses: give the camera's "
-                                               "--intrinsics fx,fy,cx,cy");
+                                               "--intrinsics fx,fy,cx,cy (the map has none)");
     }
-    CheckOutputsAreNotInputs(MapFiles(arguments->map, "the map"), {{"--out", arguments->out}});
     if (const long writer = MapWriterProcess(arguments->map); writer != 0) {
       std::cout << "note: " << arguments->map << " is being written by another process"
                 << (writer > 0 ? " (pid " + std::to_string(writer) + ")" : std::string())
