@@ -360,6 +360,31 @@ TEST_F(RosNodeTest, CompressedTransportIsDecoded) {
   EXPECT_EQ(WaitExit(node), 0) << ReadFile(log);
 }
 
+// After `cmake --install`, with ROS_PACKAGE_PATH=PREFIX/share: roslaunch starts the node from the
+// launch file (a remapped topic, parameters), and SIGINT closes its map.
+TEST_F(RosNodeTest, TheInstalledLaunchFileStartsTheNode) {
+  const std::string prefix = dir_.File("prefix");
+  ASSERT_EQ(std::system(("cmake --install " + std::string(MEMLOOP_BUILD_DIR) + " --prefix " +
+                         prefix + " > " + dir_.File("install.log") + " 2>&1")
+                            .c_str()),
+            0)
+      << ReadFile(dir_.File("install.log"));
+  setenv("ROS_PACKAGE_PATH", (prefix + "/share").c_str(), 1);
+  const std::string log = dir_.File("launch.log");
+  const std::string map = dir_.File("launched.db");
+  ros::param::del("/memloop");
+  const pid_t launch = Spawn({"roslaunch", "memloop", "memloop.launch",
+                              std::string("image:=") + kTopic, "database:=" + map, "queue:=true"},
+                             log);
+  WaitConnected();
+  for (int i = 0; i < 3; ++i) images_.publish(ImageMessage(route_->Render(i), 1 + i));
+  ASSERT_TRUE(WaitFor([&] { return Diagnostic("images processed") == 3; })) << ReadFile(log);
+  kill(launch, SIGINT);
+  EXPECT_EQ(WaitExit(launch), 0) << ReadFile(log);
+  EXPECT_TRUE(Contains(ReadFile(log), "closed after 3 images")) << ReadFile(log);
+  EXPECT_EQ(Memloop("inspect " + map).exit_code, 0);
+}
+
 // An invalid or unknown parameter: the node refuses to start, in one line naming it. A topic
 // nobody publishes: a warning after a few seconds.
 TEST_F(RosNodeTest, BadParametersRefuseToStartAndASilentTopicIsWarnedAbout) {
