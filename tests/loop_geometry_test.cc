@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -188,6 +190,48 @@ TEST(LoopGeometryResultTest, EveryLoopClosureRowHasAPoseOrAReason) {
   }
   EXPECT_GT(loops, 20);
   EXPECT_GT(posed, 0);
+}
+
+// `export --format g2o --poses TRAJECTORY` of a run: a vertex per image, the first fixed, an
+// odometry edge between consecutive images, and an edge per loop closure with a pose.
+TEST(LoopGeometryResultTest, ExportWithATrajectoryIsAWholePoseGraph) {
+  testing::TempDir dir;
+  ASSERT_EQ(Memloop("generate " + dir.File("walk") + " --layout tum").exit_code, 0);
+  const std::string map = dir.File("map.db");
+  ASSERT_EQ(Memloop("run " + dir.File("walk") + " --db " + map +
+                    " --set memory.time_limit_ms=0 camera.fx=300 camera.fy=300 camera.cx=160 "
+                    "camera.cy=120")
+                .exit_code,
+            0);
+  std::ofstream trajectory(dir.File("odometry.txt"));  // the listing's stamps, 10 cm apart
+  std::istringstream listing(ReadFile(dir.File("walk/rgb.txt")));
+  int images = 0;
+  for (std::string line; std::getline(listing, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    trajectory << line.substr(0, line.find(' ')) << " " << 0.1 * images++ << " 0 0 0 0 0 1\n";
+  }
+  trajectory.close();
+  const Outcome outcome = Memloop("export " + map + " --format g2o --poses " +
+                                  dir.File("odometry.txt") + " --out " + dir.File("graph.g2o"));
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+  std::map<std::string, int> records;
+  int loops = 0;
+  std::istringstream graph(ReadFile(dir.File("graph.g2o")));
+  for (std::string line; std::getline(graph, line);) {
+    const std::string tag = line.substr(0, line.find(' '));
+    ++records[tag];
+    int from = 0, to = 0;
+    if (tag == "EDGE_SE3:QUAT" &&
+        std::sscanf(line.c_str(), "EDGE_SE3:QUAT %d %d", &from, &to) == 2) {
+      loops += to != from + 1;
+    }
+  }
+  EXPECT_EQ(records["VERTEX_SE3:QUAT"], images);
+  EXPECT_EQ(records["FIX"], 1);
+  EXPECT_EQ(records["EDGE_SE3:QUAT"] - loops, images - 1);  // odometry
+  EXPECT_GT(loops, 20);
+  EXPECT_TRUE(Contains(outcome.output, "(" + std::to_string(loops) + " with a relative pose)"))
+      << outcome.output;
 }
 
 }  // namespace

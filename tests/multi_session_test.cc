@@ -306,7 +306,7 @@ TEST_F(MultiSessionTest, CommandLineNewSessionInspectAndResumeCheck) {
   int edges = 0;
   for (std::string line; std::getline(g2o, line);) edges += line.rfind("EDGE_SE3:QUAT ", 0) == 0;
   EXPECT_EQ(edges, posed);
-  outcome = Memloop("export " + map + " --format tum --out " + dir_.File("loops.txt"));
+  outcome = Memloop("export " + map + " --format pairs --out " + dir_.File("loops.txt"));
   EXPECT_NE(outcome.exit_code, 0);
   EXPECT_TRUE(Contains(outcome.output, "give the camera's --intrinsics")) << outcome.output;
 

@@ -71,7 +71,7 @@ TEST_F(OutputRuleTest, ExportNeverWritesOverItsMapHoweverSpelled) {
                                  dir_.File("link.db"), dir_.File("hard.db")}) {
     ExpectRefusedUntouched("export " + map + " --out " + out, 1, out + ": is also the map");
     ExpectRefusedUntouched(
-        "export " + map + " --format tum --intrinsics 300,300,160,120 --out " + out, 1,
+        "export " + map + " --format pairs --intrinsics 300,300,160,120 --out " + out, 1,
         "is also the map");
   }
   EXPECT_EQ(Memloop("inspect " + map).exit_code, 0);

@@ -4,6 +4,7 @@
 // matrix (rotation and the direction of the translation: one camera cannot give its scale).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,35 @@ struct ExportedLoopClosure {
 std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                     const CameraIntrinsics& intrinsics = {});
 
-enum class ExportFormat { kJson, kG2o, kTum };
-// "json", "g2o", "tum"; ParameterError naming `--format` otherwise.
+enum class ExportFormat { kJson, kG2o, kPairs };
+// "json", "g2o", "pairs"; ParameterError naming `--format` otherwise ("tum" too, saying why: a TUM
+// trajectory has 8 columns, a loop closure is a pair of images).
 ExportFormat ParseExportFormat(const std::string& name);
-// Writes `loops` to `path` as g2o edges or TUM-convention poses (docs/export.md): both need the
-// relative poses, so `intrinsics` must be known (ParameterError). Throws InputError when the file
-// cannot be written. (`memloop export --format json` writes everything, poses or not.)
+
+// A rigid transform: translation, then rotation as a quaternion x, y, z, w.
+using PoseArray = std::array<double, 7>;
+// "tx,ty,tz,qx,qy,qz,qw"; ParameterError naming `option` otherwise.
+PoseArray ParsePose(const std::string& text, const std::string& option);
+
+// What turns loop-closure edges into a pose graph g2o loads as it is (docs/export.md).
+struct PoseGraphOptions {
+  // A TUM trajectory ("time tx ty tz qx qy qz qw" lines, '#' comments) of the map's images: each
+  // image whose time stamp it holds (within 10 ms) becomes a vertex at that pose, consecutive
+  // vertices are joined by odometry edges, the first is fixed. "": loop-closure edges only.
+  std::string trajectory;
+  // The camera's pose in the frame the trajectory's poses are of (the robot's base): loop
+  // closures, measured between cameras, are turned into edges between bases.
+  PoseArray camera_to_base{0, 0, 0, 0, 0, 0, 1};
+};
+
+// Writes `loops` to `path` as a g2o pose graph or as pairs of images with their relative pose
+// (docs/export.md): both need the relative poses, so `intrinsics` must be known (ParameterError).
+// `images` (ReadMapImages) gives the vertices' time stamps. Throws InputError when the trajectory
+// cannot be read or the file cannot be written. (`memloop export --format json` writes
+// everything, poses or not.)
 void WriteLoopClosures(const std::vector<ExportedLoopClosure>& loops, ExportFormat format,
-                       const CameraIntrinsics& intrinsics, const std::string& path);
+                       const CameraIntrinsics& intrinsics, const std::string& path,
+                       const std::vector<MapImage>& images = {},
+                       const PoseGraphOptions& graph = {});
 
 }  // namespace memloop

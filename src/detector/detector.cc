@@ -217,14 +217,14 @@ class Detector::Impl {
     sessions_.StartNew(counters_.last_image);
   }
 
-  // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
-  // checking that the map was made with the same map-defining parameters.
   // A map a run killed before its first checkpoint left (ltm_ holds it open to write).
   bool HoldsNoImage(const std::string& path) {
     LtmDatabase database(path, LtmDatabase::Mode::kAttach);
     return MapHoldsNoImage(database);
   }
 
+  // Restores memory, dictionary, filter and counters from the file's last checkpoint, after
+  // checking that the map was made with the same map-defining parameters.
   void Resume(const std::string& path) {
     // ltm_ checked the file
     LtmDatabase database(path, localizing_ ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kAttach);

@@ -79,8 +79,14 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
 ExportFormat ParseExportFormat(const std::string& name) {
   if (name == "json") return ExportFormat::kJson;
   if (name == "g2o") return ExportFormat::kG2o;
-  if (name == "tum") return ExportFormat::kTum;
-  throw ParameterError("--format", "--format: '" + name + "' is not one of json, g2o, tum");
+  if (name == "pairs") return ExportFormat::kPairs;
+  if (name == "tum") {
+    throw ParameterError("--format",
+                         "--format tum: a TUM trajectory has 8 columns (time and pose) and a "
+                         "loop closure is a pair of images: --format pairs writes them (both "
+                         "time stamps, then the relative pose)");
+  }
+  throw ParameterError("--format", "--format: '" + name + "' is not one of json, g2o, pairs");
 }
 
 }  // namespace memloop

@@ -1,6 +1,12 @@
-// The pose-graph files `memloop export` writes (docs/export.md): g2o edges and TUM-convention
-// relative poses. (Its JSON, with everything, is written by the tool.)
+// The files `memloop export` writes for a SLAM back-end (docs/export.md): a g2o pose graph (the
+// loop-closure edges, and with a trajectory its vertices and odometry edges) and the loop
+// closures as pairs of images with their relative pose. (Its JSON is written by the tool.)
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
+#include <opencv2/core.hpp>
 #include <sstream>
 
 #include "memloop/errors.h"
@@ -10,13 +16,174 @@
 namespace memloop {
 namespace {
 
-// The loop closures with a pose, each as `line` formats it; the others as comment lines.
-template <typename Line>
-void WritePoses(const std::vector<ExportedLoopClosure>& loops, const char* header,
-                std::ostream& out, Line line) {
-  out << header
-      << "# the query camera in the match camera's frame; translation of unit length, scale "
-         "unknown\n";
+// Information of a loop-closure edge's rotation. g2o's EDGE_SE3:QUAT error takes the vector part
+// of the error quaternion, about half the angle: an angle of sigma 0.05 rad (about the 90th
+// percentile measured on tum_fr1_rpy) is 1 / (0.05 / 2)^2. Its translation is a direction whose
+// length odometry gives: information 1e-6.
+constexpr double kLoopRotationInformation = 1600;
+// Odometry edges (from the trajectory): 5 cm and 0.02 rad (sigma), in g2o's convention too.
+constexpr double kOdometryTranslationInformation = 400;
+constexpr double kOdometryRotationInformation = 10000;
+// A trajectory pose stands for an image when their time stamps are this close, in seconds.
+constexpr double kStampTolerance = 0.01;
+
+struct Rigid {
+  cv::Matx33d rotation = cv::Matx33d::eye();
+  cv::Vec3d translation;
+
+  static Rigid Of(const PoseArray& pose) {
+    const double x = pose[3], y = pose[4], z = pose[5], w = pose[6];
+    const double norm = std::sqrt(x * x + y * y + z * z + w * w);
+    const double a = x / norm, b = y / norm, c = z / norm, d = w / norm;
+    return {cv::Matx33d(1 - 2 * (b * b + c * c), 2 * (a * b - c * d), 2 * (a * c + b * d),
+                        2 * (a * b + c * d), 1 - 2 * (a * a + c * c), 2 * (b * c - a * d),
+                        2 * (a * c - b * d), 2 * (b * c + a * d), 1 - 2 * (a * a + b * b)),
+            cv::Vec3d(pose[0], pose[1], pose[2])};
+  }
+  Rigid operator*(const Rigid& other) const {
+    return {rotation * other.rotation, rotation * other.translation + translation};
+  }
+  Rigid Inverse() const { return {rotation.t(), -(rotation.t() * translation)}; }
+  PoseArray Array() const {
+    const cv::Matx33d& r = rotation;
+    const double trace = r(0, 0) + r(1, 1) + r(2, 2);
+    std::array<double, 4> q{};  // Shepperd: the largest of the four candidates divides
+    if (trace > 0) {
+      const double s = 2 * std::sqrt(1 + trace);
+      q = {(r(2, 1) - r(1, 2)) / s, (r(0, 2) - r(2, 0)) / s, (r(1, 0) - r(0, 1)) / s, s / 4};
+    } else if (r(0, 0) > r(1, 1) && r(0, 0) > r(2, 2)) {
+      const double s = 2 * std::sqrt(1 + r(0, 0) - r(1, 1) - r(2, 2));
+      q = {s / 4, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s, (r(2, 1) - r(1, 2)) / s};
+    } else if (r(1, 1) > r(2, 2)) {
+      const double s = 2 * std::sqrt(1 + r(1, 1) - r(0, 0) - r(2, 2));
+      q = {(r(0, 1) + r(1, 0)) / s, s / 4, (r(1, 2) + r(2, 1)) / s, (r(0, 2) - r(2, 0)) / s};
+    } else {
+      const double s = 2 * std::sqrt(1 + r(2, 2) - r(0, 0) - r(1, 1));
+      q = {(r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, s / 4, (r(1, 0) - r(0, 1)) / s};
+    }
+    if (q[3] < 0) {
+      for (double& value : q) value = -value;
+    }
+    return {translation[0], translation[1], translation[2], q[0], q[1], q[2], q[3]};
+  }
+};
+
+// "EDGE_SE3:QUAT from to tx ty tz qx qy qz qw" and the information's upper triangle.
+void WriteEdge(std::ostream& out, int from, int to, const PoseArray& pose, double translation,
+               double rotation) {
+  char text[512];
+  std::snprintf(text, sizeof(text),
+                "EDGE_SE3:QUAT %d %d %.9f %.9f %.9f %.9f %.9f %.9f %.9f %g 0 0 0 0 0 %g 0 0 0 0 "
+                "%g 0 0 0 %g 0 0 %g 0 %g\n",
+                from, to, pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], pose[6],
+                translation, translation, translation, rotation, rotation, rotation);
+  out << text;
+}
+
+// The trajectory's poses by time stamp.
+std::map<double, PoseArray> ReadTrajectory(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot read the trajectory");
+  std::map<double, PoseArray> poses;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    double stamp = 0;
+    PoseArray pose{};
+    std::string extra;
+    bool read = static_cast<bool>(fields >> stamp);
+    for (double& value : pose) read = read && static_cast<bool>(fields >> value);
+    if (!read || (fields >> extra) || !std::isfinite(stamp)) {
+      throw InputError(path, "line " + std::to_string(number) +
+                                 ": expected 'time tx ty tz qx qy qz qw' (a TUM trajectory)");
+    }
+    poses[stamp] = pose;
+  }
+  if (poses.empty()) throw InputError(path, "the trajectory holds no pose");
+  return poses;
+}
+
+// The trajectory pose of each image whose time stamp it holds, by image index.
+std::map<ImageIndex, Rigid> Vertices(const std::vector<MapImage>& images,
+                                     const std::string& trajectory) {
+  const std::map<double, PoseArray> poses = ReadTrajectory(trajectory);
+  std::map<ImageIndex, Rigid> vertices;
+  for (const MapImage& image : images) {
+    if (!HasTimestamp(image.timestamp)) continue;
+    auto after = poses.lower_bound(image.timestamp);
+    auto nearest = after;
+    if (after == poses.end() ||
+        (after != poses.begin() &&
+         image.timestamp - std::prev(after)->first < after->first - image.timestamp)) {
+      nearest = std::prev(after);
+    }
+    if (std::abs(nearest->first - image.timestamp) <= kStampTolerance) {
+      vertices[image.index] = Rigid::Of(nearest->second);
+    }
+  }
+  if (vertices.empty()) {
+    throw InputError(trajectory,
+                     "holds no pose at the time stamp of any of the map's images (within 10 ms)");
+  }
+  return vertices;
+}
+
+// A loop closure between cameras as an edge between bases: B_match^-1 B_query =
+// X C_match^-1 C_query X^-1 for the camera's pose X in the base frame. memloop's translations are
+// directions of unit length (one camera, no depth): rotated into the base frame, not moved by
+// the lever arm, which needs a length.
+PoseArray BaseEdge(const LoopGeometry& g, const Rigid& camera_to_base) {
+  const Rigid between =
+      Rigid::Of({g.translation[0], g.translation[1], g.translation[2], g.quaternion[0],
+                 g.quaternion[1], g.quaternion[2], g.quaternion[3]});
+  const Rigid in_base{camera_to_base.rotation * between.rotation * camera_to_base.rotation.t(),
+                      camera_to_base.rotation * between.translation};
+  return in_base.Array();
+}
+
+void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<MapImage>& images,
+              const PoseGraphOptions& graph, std::ostream& out) {
+  out << "# memloop: vertices are image indices; EDGE_SE3:QUAT from to = the pose of 'to' in "
+         "'from''s frame, information's upper triangle (docs/export.md)\n";
+  const Rigid camera_to_base = Rigid::Of(graph.camera_to_base);
+  if (!graph.trajectory.empty()) {
+    const std::map<ImageIndex, Rigid> vertices = Vertices(images, graph.trajectory);
+    for (const auto& [index, pose] : vertices) {
+      const PoseArray p = pose.Array();
+      char text[256];
+      std::snprintf(text, sizeof(text), "VERTEX_SE3:QUAT %d %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
+                    index, p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
+      out << text;
+    }
+    out << "FIX " << vertices.begin()->first << "\n";
+    for (auto at = vertices.begin(); std::next(at) != vertices.end(); ++at) {
+      const auto next = std::next(at);
+      WriteEdge(out, at->first, next->first, (at->second.Inverse() * next->second).Array(),
+                kOdometryTranslationInformation, kOdometryRotationInformation);
+    }
+  }
+  for (const ExportedLoopClosure& loop : loops) {
+    const LoopGeometry& g = loop.geometry;
+    if (!g.has_pose) {
+      out << "# image " << loop.query.index << " -> image " << loop.match.index
+          << ": no relative pose (" << g.pose_problem << ")\n";
+      continue;
+    }
+    WriteEdge(out, loop.match.index, loop.query.index, BaseEdge(g, camera_to_base), 1e-6,
+              kLoopRotationInformation);
+  }
+}
+
+// One line per loop closure: both images' time stamps (their indices when the map has none),
+// then the query camera's pose in the match camera's frame.
+void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out) {
+  out << "# memloop loop closures: query_timestamp match_timestamp tx ty tz qx qy qz qw (the "
+         "query camera in the match camera's frame; translation of unit length)\n";
+  const auto stamp = [](const MapImage& image) {
+    return HasTimestamp(image.timestamp) ? image.timestamp : image.index;
+  };
   for (const ExportedLoopClosure& loop : loops) {
     const LoopGeometry& g = loop.geometry;
     if (!g.has_pose) {
@@ -25,68 +192,55 @@ void WritePoses(const std::vector<ExportedLoopClosure>& loops, const char* heade
       continue;
     }
     char text[512];
-    line(loop, g, text, sizeof(text));
+    std::snprintf(text, sizeof(text), "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
+                  stamp(loop.query), stamp(loop.match), g.translation[0], g.translation[1],
+                  g.translation[2], g.quaternion[0], g.quaternion[1], g.quaternion[2],
+                  g.quaternion[3]);
     out << text;
   }
 }
 
-// A pose-graph edge from the match to the query image: rotation information 400 (0.05 rad, about
-// the 90th percentile of the error measured on tum_fr1_rpy, docs/export.md), translation a
-// direction only (information 1e-6: its scale comes from odometry; unknown: 0 0 0).
-void WriteG2o(const std::vector<ExportedLoopClosure>& loops, std::ostream& out) {
-  WritePoses(loops,
-             "# memloop loop closures: EDGE_SE3:QUAT match_image query_image tx ty tz qx qy qz "
-             "qw information (upper triangle, 21 values)\n",
-             out,
-             [](const ExportedLoopClosure& loop, const LoopGeometry& g, char* text, size_t size) {
-               std::snprintf(text, size,
-                             "EDGE_SE3:QUAT %d %d %.9f %.9f %.9f %.9f %.9f %.9f %.9f "
-                             "1e-06 0 0 0 0 0 1e-06 0 0 0 0 1e-06 0 0 0 400 0 0 400 0 400\n",
-                             loop.match.index, loop.query.index, g.translation[0], g.translation[1],
-                             g.translation[2], g.quaternion[0], g.quaternion[1], g.quaternion[2],
-                             g.quaternion[3]);
-             });
-}
-
-// One line per loop closure, TUM's pose layout after the two images' time stamps (their indices
-// when the map has no time stamp).
-void WriteTum(const std::vector<ExportedLoopClosure>& loops, std::ostream& out) {
-  WritePoses(loops,
-             "# memloop loop closures: query_timestamp match_timestamp tx ty tz qx qy qz qw\n", out,
-             [](const ExportedLoopClosure& loop, const LoopGeometry& g, char* text, size_t size) {
-               const auto stamp = [](const MapImage& image) {
-                 return HasTimestamp(image.timestamp) ? image.timestamp : image.index;
-               };
-               std::snprintf(text, size, "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                             stamp(loop.query), stamp(loop.match), g.translation[0],
-                             g.translation[1], g.translation[2], g.quaternion[0], g.quaternion[1],
-                             g.quaternion[2], g.quaternion[3]);
-             });
-}
-
 }  // namespace
 
+PoseArray ParsePose(const std::string& text, const std::string& option) {
+  PoseArray pose{};
+  std::stringstream fields(text);
+  size_t count = 0;
+  for (std::string field; std::getline(fields, field, ',');) {
+    char* end = nullptr;
+    const double value = std::strtod(field.c_str(), &end);
+    if (field.empty() || *end != '\0' || !std::isfinite(value) || count == pose.size()) {
+      count = pose.size() + 1;
+      break;
+    }
+    pose[count++] = value;
+  }
+  const double norm = std::hypot(pose[3], pose[4], pose[5]) + std::abs(pose[6]);
+  if (count != pose.size() || norm == 0) {
+    throw ParameterError(option, option + ": '" + text +
+                                     "' is not seven numbers tx,ty,tz,qx,qy,qz,qw (a quaternion "
+                                     "not all 0)");
+  }
+  return pose;
+}
+
 void WriteLoopClosures(const std::vector<ExportedLoopClosure>& loops, ExportFormat format,
-                       const CameraIntrinsics& intrinsics, const std::string& path) {
+                       const CameraIntrinsics& intrinsics, const std::string& path,
+                       const std::vector<MapImage>& images, const PoseGraphOptions& graph) {
   if (format == ExportFormat::kJson) {
-    throw Error("WriteLoopClosures writes g2o and tum; JSON is the tool's (memloop export)");
+    throw Error("WriteLoopClosures writes g2o and pairs; JSON is the tool's (memloop export)");
   }
   if (!intrinsics.known()) {
     throw ParameterError("--intrinsics", std::string("--format ") +
-                                             (format == ExportFormat::kG2o ? "g2o" : "tum") +
+                                             (format == ExportFormat::kG2o ? "g2o" : "pairs") +
                                              " writes relative poses: give the camera's "
                                              "--intrinsics fx,fy,cx,cy");
   }
   std::ostringstream out;
-  switch (format) {
-    case ExportFormat::kJson:
-      break;
-    case ExportFormat::kG2o:
-      WriteG2o(loops, out);
-      break;
-    case ExportFormat::kTum:
-      WriteTum(loops, out);
-      break;
+  if (format == ExportFormat::kG2o) {
+    WriteG2o(loops, images, graph, out);
+  } else {
+    WritePairs(loops, out);
   }
   WriteWholeFile(path, "the export file", out.str());
 }

@@ -11,7 +11,6 @@
 #include <unordered_map>
 
 #include "memloop/errors.h"
-#include "memloop/map_info.h"
 #include "storage/map_integrity.h"
 #include "storage/map_writer_lock.h"
 
@@ -96,10 +95,6 @@ std::string ReadText(SqliteConnection& connection, const std::string& sql) {
     return "";  // no such table: a map older than the row
   }
 }
-
-}  // namespace
-
-namespace {
 
 // A refused map keeps its folder as it was: the -shm index SQLite made to read its log goes
 // (unless another process uses it).

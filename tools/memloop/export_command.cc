@@ -1,5 +1,6 @@
-// memloop export MAP.db [--format json|g2o|tum] [--intrinsics fx,fy,cx,cy] --out FILE: the map's
-// loop closures for a SLAM back-end, read without changing the map.
+// memloop export MAP.db [--format json|g2o|pairs] [--intrinsics fx,fy,cx,cy] [--poses TRAJECTORY]
+// [--camera-to-base tx,ty,tz,qx,qy,qz,qw] --out FILE: the map's loop closures for a SLAM back-end,
+// read without changing the map.
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -77,6 +78,8 @@ void AddExportCommand(CLI::App& app) {
     std::string map;
     std::string format = "json";
     std::string intrinsics;
+    std::string poses;
+    std::string camera_to_base;
     std::string out;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -85,18 +88,37 @@ void AddExportCommand(CLI::App& app) {
       "A map's loop closures for a SLAM back-end: both images (name, index, time stamp, session), "
       "the hypothesis value, the epipolar inliers and, with --intrinsics, the relative pose");
   command->add_option("map", arguments->map, "Map database file (--db of a run)")->required();
-  command
-      ->add_option("--format", arguments->format,
-                   "json (everything), g2o (EDGE_SE3:QUAT lines) or tum (time stamps and "
-                   "pose per line); g2o and tum need --intrinsics")
-      ->check(CLI::IsMember({"json", "g2o", "tum"}));
+  command->add_option("--format", arguments->format,
+                      "json (everything), g2o (a pose graph: loop-closure edges, with --poses "
+                      "vertices and odometry edges) or pairs (both images' time stamps and the "
+                      "relative pose per line); g2o and pairs need intrinsics");
   command->add_option("--intrinsics", arguments->intrinsics,
                       "Camera intrinsics fx,fy,cx,cy in pixels: the relative pose from the "
                       "essential matrix; default: the map's camera.fx..cy, if set");
+  command->add_option("--poses", arguments->poses,
+                      "g2o: a TUM trajectory (time tx ty tz qx qy qz qw) of the images' time "
+                      "stamps, odometry or any estimate: a vertex per image it holds, odometry "
+                      "edges between them, the first fixed");
+  command->add_option("--camera-to-base", arguments->camera_to_base,
+                      "g2o: the camera's pose tx,ty,tz,qx,qy,qz,qw in the frame of --poses (the "
+                      "robot's base): loop closures become edges between bases");
   command->add_option("--out", arguments->out, "File to write")->required();
   command->callback([arguments] {
     const ExportFormat format = ParseExportFormat(arguments->format);
-    CheckOutputsAreNotInputs(MapFiles(arguments->map, "the map"), {{"--out", arguments->out}});
+    std::vector<NamedPath> inputs = MapFiles(arguments->map, "the map");
+    inputs.push_back({"the trajectory (--poses)", arguments->poses});
+    CheckOutputsAreNotInputs(inputs, {{"--out", arguments->out}});
+    PoseGraphOptions graph;
+    graph.trajectory = arguments->poses;
+    if (!arguments->camera_to_base.empty()) {
+      graph.camera_to_base = ParsePose(arguments->camera_to_base, "--camera-to-base");
+    }
+    if (format != ExportFormat::kG2o &&
+        (!graph.trajectory.empty() || !arguments->camera_to_base.empty())) {
+      throw ParameterError("--poses",
+                           "--poses and --camera-to-base make a g2o pose graph: give "
+                           "--format g2o");
+    }
     // Without --intrinsics, the map's own (camera.fx..cy, with which its poses were found).
     const CameraIntrinsics intrinsics = arguments->intrinsics.empty()
                                             ? MapCamera(arguments->map)
@@ -115,7 +137,8 @@ void AddExportCommand(CLI::App& app) {
     if (format == ExportFormat::kJson) {
       WriteWholeFile(arguments->out, "the export file", Json(loops, intrinsics).dump(2) + "\n");
     } else {
-      WriteLoopClosures(loops, format, intrinsics, arguments->out);
+      WriteLoopClosures(loops, format, intrinsics, arguments->out, ReadMapImages(arguments->map),
+                        graph);
     }
     int posed = 0;
     for (const ExportedLoopClosure& loop : loops) posed += loop.geometry.has_pose;
