@@ -12,29 +12,6 @@
 namespace memloop {
 namespace {
 
-std::array<double, 4> QuaternionOf(const cv::Matx33d& r) {
-  // Shepperd's method: the largest of the four candidates divides.
-  const double trace = r(0, 0) + r(1, 1) + r(2, 2);
-  std::array<double, 4> q{};  // x, y, z, w
-  if (trace > 0) {
-    const double s = 2 * std::sqrt(1 + trace);
-    q = {(r(2, 1) - r(1, 2)) / s, (r(0, 2) - r(2, 0)) / s, (r(1, 0) - r(0, 1)) / s, s / 4};
-  } else if (r(0, 0) > r(1, 1) && r(0, 0) > r(2, 2)) {
-    const double s = 2 * std::sqrt(1 + r(0, 0) - r(1, 1) - r(2, 2));
-    q = {s / 4, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s, (r(2, 1) - r(1, 2)) / s};
-  } else if (r(1, 1) > r(2, 2)) {
-    const double s = 2 * std::sqrt(1 + r(1, 1) - r(0, 0) - r(2, 2));
-    q = {(r(0, 1) + r(1, 0)) / s, s / 4, (r(1, 2) + r(2, 1)) / s, (r(0, 2) - r(2, 0)) / s};
-  } else {
-    const double s = 2 * std::sqrt(1 + r(2, 2) - r(0, 0) - r(1, 1));
-    q = {(r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, s / 4, (r(1, 0) - r(0, 1)) / s};
-  }
-  if (q[3] < 0) {
-    for (double& value : q) value = -value;
-  }
-  return q;
-}
-
 cv::Vec3d Bearing(const cv::Point2f& pixel, const CameraIntrinsics& k) {
   const cv::Vec3d ray((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, 1);
   return ray / cv::norm(ray);
@@ -195,6 +172,38 @@ LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match
                             "both cameras)";
   }
   return geometry;
+}
+
+std::array<double, 4> QuaternionOf(const cv::Matx33d& r) {
+  // Shepperd's method: the largest of the four candidates divides.
+  const double trace = r(0, 0) + r(1, 1) + r(2, 2);
+  std::array<double, 4> q{};  // x, y, z, w
+  if (trace > 0) {
+    const double s = 2 * std::sqrt(1 + trace);
+    q = {(r(2, 1) - r(1, 2)) / s, (r(0, 2) - r(2, 0)) / s, (r(1, 0) - r(0, 1)) / s, s / 4};
+  } else if (r(0, 0) > r(1, 1) && r(0, 0) > r(2, 2)) {
+    const double s = 2 * std::sqrt(1 + r(0, 0) - r(1, 1) - r(2, 2));
+    q = {s / 4, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s, (r(2, 1) - r(1, 2)) / s};
+  } else if (r(1, 1) > r(2, 2)) {
+    const double s = 2 * std::sqrt(1 + r(1, 1) - r(0, 0) - r(2, 2));
+    q = {(r(0, 1) + r(1, 0)) / s, s / 4, (r(1, 2) + r(2, 1)) / s, (r(0, 2) - r(2, 0)) / s};
+  } else {
+    const double s = 2 * std::sqrt(1 + r(2, 2) - r(0, 0) - r(1, 1));
+    q = {(r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, s / 4, (r(1, 0) - r(0, 1)) / s};
+  }
+  if (q[3] < 0) {
+    for (double& value : q) value = -value;
+  }
+  return q;
+}
+
+cv::Matx33d RotationOf(const std::array<double, 4>& quaternion) {
+  const auto [x, y, z, w] = quaternion;
+  const double norm = std::sqrt(x * x + y * y + z * z + w * w);
+  const double a = x / norm, b = y / norm, c = z / norm, d = w / norm;
+  return {1 - 2 * (b * b + c * c), 2 * (a * b - c * d),     2 * (a * c + b * d),
+          2 * (a * b + c * d),     1 - 2 * (a * a + c * c), 2 * (b * c - a * d),
+          2 * (a * c - b * d),     2 * (b * c + a * d),     1 - 2 * (a * a + b * b)};
 }
 
 LoopClosurePose KeptPose(const LoopGeometry& geometry, bool intrinsics_known) {

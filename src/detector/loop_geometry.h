@@ -2,6 +2,9 @@
 // matrix's inliers and, given the intrinsics, the relative pose (essential matrix).
 #pragma once
 
+#include <array>
+#include <opencv2/core.hpp>
+
 #include "detector/location.h"
 #include "memloop/loop_geometry.h"
 #include "memloop/map_info.h"
@@ -15,6 +18,11 @@ namespace memloop {
 inline ImageIndex ViewOf(const Location& location) {
   return location.signature.image != kNoImage ? location.signature.image : location.images.front();
 }
+
+// A rotation matrix's quaternion x, y, z, w (w >= 0), and the rotation of a quaternion (of any
+// norm but 0).
+std::array<double, 4> QuaternionOf(const cv::Matx33d& rotation);
+cv::Matx33d RotationOf(const std::array<double, 4>& quaternion);
 
 // What the map keeps of a loop closure's geometry (LoopClosurePose): `estimated` when the
 // intrinsics were known, else a reason saying they were not.

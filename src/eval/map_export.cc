@@ -20,10 +20,8 @@ void UseKeptPose(const LoopClosurePose& pose, LoopGeometry& geometry) {
   geometry.translation = pose.translation;
   geometry.translation_known = pose.translation != std::array<double, 3>{};
   geometry.pose_inliers = pose.inliers;
-  const auto [x, y, z, w] = pose.quaternion;
-  geometry.rotation = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
-                       2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
-                       2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+  const cv::Matx33d rotation = RotationOf(pose.quaternion);
+  for (int i = 0; i < 9; ++i) geometry.rotation[i] = rotation(i / 3, i % 3);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <sstream>
 
+#include "detector/loop_geometry.h"
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
 #include "util/output_files.h"
@@ -32,41 +33,23 @@ struct Rigid {
   cv::Vec3d translation;
 
   static Rigid Of(const PoseArray& pose) {
-    const double x = pose[3], y = pose[4], z = pose[5], w = pose[6];
-    const double norm = std::sqrt(x * x + y * y + z * z + w * w);
-    const double a = x / norm, b = y / norm, c = z / norm, d = w / norm;
-    return {cv::Matx33d(1 - 2 * (b * b + c * c), 2 * (a * b - c * d), 2 * (a * c + b * d),
-                        2 * (a * b + c * d), 1 - 2 * (a * a + c * c), 2 * (b * c - a * d),
-                        2 * (a * c - b * d), 2 * (b * c + a * d), 1 - 2 * (a * a + b * b)),
-            cv::Vec3d(pose[0], pose[1], pose[2])};
+    return {RotationOf({pose[3], pose[4], pose[5], pose[6]}), cv::Vec3d(pose[0], pose[1], pose[2])};
   }
   Rigid operator*(const Rigid& other) const {
     return {rotation * other.rotation, rotation * other.translation + translation};
   }
   Rigid Inverse() const { return {rotation.t(), -(rotation.t() * translation)}; }
   PoseArray Array() const {
-    const cv::Matx33d& r = rotation;
-    const double trace = r(0, 0) + r(1, 1) + r(2, 2);
-    std::array<double, 4> q{};  // Shepperd: the largest of the four candidates divides
-    if (trace > 0) {
-      const double s = 2 * std::sqrt(1 + trace);
-      q = {(r(2, 1) - r(1, 2)) / s, (r(0, 2) - r(2, 0)) / s, (r(1, 0) - r(0, 1)) / s, s / 4};
-    } else if (r(0, 0) > r(1, 1) && r(0, 0) > r(2, 2)) {
-      const double s = 2 * std::sqrt(1 + r(0, 0) - r(1, 1) - r(2, 2));
-      q = {s / 4, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s, (r(2, 1) - r(1, 2)) / s};
-    } else if (r(1, 1) > r(2, 2)) {
-      const double s = 2 * std::sqrt(1 + r(1, 1) - r(0, 0) - r(2, 2));
-      q = {(r(0, 1) + r(1, 0)) / s, s / 4, (r(1, 2) + r(2, 1)) / s, (r(0, 2) - r(2, 0)) / s};
-    } else {
-      const double s = 2 * std::sqrt(1 + r(2, 2) - r(0, 0) - r(1, 1));
-      q = {(r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, s / 4, (r(1, 0) - r(0, 1)) / s};
-    }
-    if (q[3] < 0) {
-      for (double& value : q) value = -value;
-    }
+    const std::array<double, 4> q = QuaternionOf(rotation);
     return {translation[0], translation[1], translation[2], q[0], q[1], q[2], q[3]};
   }
 };
+
+// A loop closure without a pose, as a comment line saying why.
+void WriteNoPose(const ExportedLoopClosure& loop, std::ostream& out) {
+  out << "# image " << loop.query.index << " -> image " << loop.match.index
+      << ": no relative pose (" << loop.geometry.pose_problem << ")\n";
+}
 
 // "EDGE_SE3:QUAT from to tx ty tz qx qy qz qw" and the information's upper triangle.
 void WriteEdge(std::ostream& out, int from, int to, const PoseArray& pose, double translation,
@@ -167,8 +150,7 @@ void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<M
   for (const ExportedLoopClosure& loop : loops) {
     const LoopGeometry& g = loop.geometry;
     if (!g.has_pose) {
-      out << "# image " << loop.query.index << " -> image " << loop.match.index
-          << ": no relative pose (" << g.pose_problem << ")\n";
+      WriteNoPose(loop, out);
       continue;
     }
     WriteEdge(out, loop.match.index, loop.query.index, BaseEdge(g, camera_to_base), 1e-6,
@@ -187,8 +169,7 @@ void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out
   for (const ExportedLoopClosure& loop : loops) {
     const LoopGeometry& g = loop.geometry;
     if (!g.has_pose) {
-      out << "# image " << loop.query.index << " -> image " << loop.match.index
-          << ": no relative pose (" << g.pose_problem << ")\n";
+      WriteNoPose(loop, out);
       continue;
     }
     char text[512];
