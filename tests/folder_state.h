@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -76,6 +77,19 @@ inline void Edit(const std::string& path, const std::string& sql) {
       << (message ? message : "");
   sqlite3_free(message);
   sqlite3_close(db);
+}
+
+// Runs `sql` on `map` through a connection that folds nothing into the file, then `while_open`
+// while that connection still holds the map's -wal with content, as a killed run leaves it.
+inline void WithALog(const std::string& map, const std::string& sql,
+                     const std::function<void()>& while_open) {
+  sqlite3* writer = nullptr;
+  ASSERT_EQ(sqlite3_open(map.c_str(), &writer), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(writer, ("PRAGMA wal_autocheckpoint=0; " + sql).c_str(), nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK);
+  while_open();
+  sqlite3_close(writer);
 }
 
 }  // namespace memloop

@@ -2,7 +2,6 @@
 // outputs however the path is spelled, whole files are written or none, a map another process is
 // writing is named as such (not "damaged"), and each refusal names its real cause.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -226,14 +225,8 @@ TEST_F(OutputRuleTest, AMapRefusedForAForeignLogGetsNoFileBesideIt) {
   const std::string map = MakeMap();
   const std::string other = dir_.File("other.db");
   ASSERT_EQ(Memloop("run " + FirstImages(20) + kSettings + " --db " + other).exit_code, 0);
-  sqlite3* writer = nullptr;
-  ASSERT_EQ(sqlite3_open(other.c_str(), &writer), SQLITE_OK);
-  ASSERT_EQ(
-      sqlite3_exec(writer, "PRAGMA wal_autocheckpoint=0; DELETE FROM links; DELETE FROM locations",
-                   nullptr, nullptr, nullptr),
-      SQLITE_OK);
-  fs::copy_file(other + "-wal", map + "-wal");
-  sqlite3_close(writer);
+  WithALog(other, "DELETE FROM links; DELETE FROM locations",
+           [&] { fs::copy_file(other + "-wal", map + "-wal"); });
   for (const std::string& use :
        {"inspect " + map, "run " + Images() + " --db " + map + " --resume"}) {
     const auto before = FolderState(dir_.path().string());

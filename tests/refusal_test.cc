@@ -1,7 +1,6 @@
 // Refused runs change no byte of any file and create none; the map is never ahead of the CSV
 // (issue 35).
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 #include <sys/wait.h>
 
 #include <filesystem>
@@ -154,16 +153,11 @@ TEST_F(RefusalTest, MapOnAReadOnlyFileSystemIsReadOrTheCauseNamed) {
   EXPECT_TRUE(Contains(localize.output, "loop closures: ")) << localize.output;
 
   // A -wal with content: a copy of the map's log while a writer holds it open.
-  sqlite3* writer = nullptr;
-  ASSERT_EQ(sqlite3_open(map.c_str(), &writer), SQLITE_OK);
-  ASSERT_EQ(
-      sqlite3_exec(writer, "PRAGMA wal_autocheckpoint=0; INSERT INTO info VALUES('note', 'x')",
-                   nullptr, nullptr, nullptr),
-      SQLITE_OK);
   const std::string copy = folder + "/copy.db";
-  fs::copy_file(map, copy);
-  fs::copy_file(map + "-wal", copy + "-wal");
-  sqlite3_close(writer);
+  WithALog(map, "INSERT INTO info VALUES('note', 'x')", [&] {
+    fs::copy_file(map, copy);
+    fs::copy_file(map + "-wal", copy + "-wal");
+  });
   const auto before = FolderState(dir_.path().string());
   const Outcome refused = *MemloopWithFolderReadOnly(folder, "inspect " + copy);
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
