@@ -8,8 +8,9 @@ PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev li
             libbenchmark-dev libmatio-dev gnuplot-nox pybind11-dev python3-dev python3-numpy \
             librosbag-storage-dev libsensor-msgs-dev
 # Only the tests need a browser (they open `memloop report` in headless Chromium), pytest and
-# cv2 (the Python module's tests read images as a user's script does).
-TEST_PACKAGES := chromium python3-pytest python3-opencv
+# cv2 (the Python module's tests read images as a user's script does), Ceres (the pose-graph
+# example the tests build and run).
+TEST_PACKAGES := chromium python3-pytest python3-opencv libceres-dev
 # The ROS 1 node (ros/, docs/ros.md) and its tests' roscore: Debian's ROS packages. Without
 # them everything else builds; the node is not.
 ROS_PACKAGES := libroscpp-dev libimage-transport-dev libdiagnostic-msgs-dev libstd-srvs-dev \

@@ -69,8 +69,10 @@ cv::Mat ImageOf(const py::array& array) {
   }
   const py::array_t<uint8_t, py::array::c_style | py::array::forcecast> image(array);
   if (image.ndim() == 2) {
-    return cv::Mat(static_cast<int>(image.shape(0)), static_cast<int>(image.shape(1)), CV_8UC1,
-                   const_cast<uint8_t*>(image.data()));
+    const cv::Mat view(static_cast<int>(image.shape(0)), static_cast<int>(image.shape(1)), CV_8UC1,
+                       const_cast<uint8_t*>(image.data()));
+    // A strided array was copied into `image`, which dies here: keep a copy of that one.
+    return image.data() == array.data() ? view : view.clone();
   }
   if (image.ndim() == 3 && (image.shape(2) == 3 || image.shape(2) == 1)) {
     return cv::Mat(static_cast<int>(image.shape(0)), static_cast<int>(image.shape(1)),
@@ -78,6 +80,27 @@ cv::Mat ImageOf(const py::array& array) {
         .clone();
   }
   throw memloop::InputError("image", "must be H x W (grey) or H x W x 3 (BGR)");
+}
+
+// A depth map registered to the image: uint16 millimetres or float32 metres, H x W; empty for
+// None.
+cv::Mat DepthOf(const std::optional<py::array>& array) {
+  if (!array) return {};
+  const auto as_mat = [](const auto& depth, int type) {
+    if (depth.ndim() != 2) throw memloop::InputError("depth", "must be H x W, one channel");
+    return cv::Mat(static_cast<int>(depth.shape(0)), static_cast<int>(depth.shape(1)), type,
+                   const_cast<void*>(static_cast<const void*>(depth.data())))
+        .clone();
+  };
+  if (py::isinstance<py::array_t<uint16_t>>(*array)) {
+    return as_mat(py::array_t<uint16_t, py::array::c_style | py::array::forcecast>(*array),
+                  CV_16UC1);
+  }
+  if (py::isinstance<py::array_t<float>>(*array)) {
+    return as_mat(py::array_t<float, py::array::c_style | py::array::forcecast>(*array), CV_32FC1);
+  }
+  throw memloop::InputError("depth",
+                            "must be a uint16 (millimetres) or float32 (metres) numpy array");
 }
 
 memloop::MapMode ModeOf(bool resume, bool new_session) {
@@ -103,15 +126,16 @@ class PyDetector {
   }
 
   memloop::Result Process(const py::array& image, int index, const std::string& name,
-                          std::optional<double> timestamp) {
+                          std::optional<double> timestamp, const std::optional<py::array>& depth) {
     const cv::Mat mat = ImageOf(image);  // `image` outlives the call: no copy needed
+    const cv::Mat depth_map = DepthOf(depth);
     memloop::Detector& detector = Live();
     memloop::ImageInfo info;
     info.index = index;
     info.name = name;
     info.timestamp = timestamp.value_or(memloop::kNoTimestamp);
     py::gil_scoped_release release;  // other Python threads run during the iteration
-    return detector.Process(mat, info);
+    return detector.Process(mat, depth_map, info);
   }
   void Close() {
     if (detector_) detector_->Close();
@@ -201,6 +225,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("quaternion", &LoopGeometry::quaternion)
       .def_readonly("translation", &LoopGeometry::translation)
       .def_readonly("translation_known", &LoopGeometry::translation_known)
+      .def_readonly("translation_metric", &LoopGeometry::translation_metric)
       .def_readonly("pose_inliers", &LoopGeometry::pose_inliers);
 
   using memloop::Result;
@@ -245,9 +270,11 @@ PYBIND11_MODULE(memloop, m) {
            "options['memory.localization'] = True, an existing map localized against, "
            "read-only)")
       .def("process", &PyDetector::Process, py::arg("image"), py::arg("index") = -1,
-           py::arg("name") = "", py::arg("timestamp") = py::none(),
+           py::arg("name") = "", py::arg("timestamp") = py::none(), py::arg("depth") = py::none(),
            "One image (numpy uint8, grey or BGR as cv2 gives), with the name and time stamp "
-           "(seconds) the map records; returns a Result")
+           "(seconds) the map records, and its depth map registered to it (uint16 millimetres "
+           "or float32 metres; with camera.fx..cy, loop closures' translations are then in "
+           "metres); returns a Result")
       .def("close", &PyDetector::Close, "Stores STM and WM too: the map is then complete")
       .def("close_at_last_checkpoint", &PyDetector::CloseAtLastCheckpoint,
            "Closes as a crash would: the map stays at the checkpoint written by the last "

@@ -40,8 +40,8 @@ void ExpectSameImages(ImageSequence& sequence, const std::vector<BagImage>& imag
     ASSERT_TRUE(sequence.Next(&frame));
     ASSERT_TRUE(frame.error.empty()) << frame.error;
     EXPECT_NEAR(frame.timestamp, image.stamp, 1e-6);
-    cv::Mat expected = image.bgr;
-    if (gray) cv::cvtColor(image.bgr, expected, cv::COLOR_BGR2GRAY);
+    cv::Mat expected = image.pixels;
+    if (gray) cv::cvtColor(image.pixels, expected, cv::COLOR_BGR2GRAY);
     ASSERT_EQ(frame.image.type(), expected.type());
     EXPECT_EQ(cv::norm(frame.image, expected, cv::NORM_INF), 0) << frame.name;
   }
@@ -101,7 +101,7 @@ TEST_F(BagTest, Ros2TopicChoiceRateAndRefusals) {
   options.rate_hz = 0;
   EXPECT_EQ(ImageSequence::Open(db3, options)->size(), 10);
   fs::create_directories(dir_.File("images"));
-  cv::imwrite(dir_.File("images/1.png"), images[0].bgr);
+  cv::imwrite(dir_.File("images/1.png"), images[0].pixels);
   ExpectInputError([&] { ImageSequence::Open(dir_.File("images"), options); }, dir_.File("images"),
                    "--topic /camera/compressed names a topic of a bag");
   std::ofstream(dir_.File("broken.db3")) << "not SQLite";
@@ -133,12 +133,88 @@ TEST_F(BagTest, Ros1BagIsReadThroughRosbagStorage) {
                    "not a readable ROS 1 bag");
 }
 
+// Depth maps of the images in `images`, each recorded 5 ms after its image, of (1000 + 100 i)
+// units; none near image 3.
+std::vector<BagImage> DepthMaps(const std::vector<BagImage>& images) {
+  std::vector<BagImage> depths;
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (i == 3) continue;
+    BagImage depth = images[i];
+    depth.pixels = cv::Mat(images[i].pixels.size(), CV_16UC1, cv::Scalar(1000 + 100 * i));
+    depth.recorded += 0.005;
+    depths.push_back(depth);
+  }
+  return depths;
+}
+
+// Each image with the depth map recorded nearest it (within 20 ms), in metres at the scale given.
+void ExpectDepthMaps(ImageSequence& sequence, int count, double units_per_metre) {
+  Frame frame;
+  for (int i = 0; i < count; ++i) {
+    ASSERT_TRUE(sequence.Next(&frame));
+    ASSERT_TRUE(frame.error.empty()) << frame.error;
+    ASSERT_FALSE(frame.image.empty());
+    if (i == 3) {
+      EXPECT_TRUE(frame.depth.empty());  // the nearest is 95 ms away: none
+      continue;
+    }
+    ASSERT_EQ(frame.depth.type(), CV_32FC1) << i;
+    ASSERT_EQ(frame.depth.size(), frame.image.size()) << i;
+    EXPECT_FLOAT_EQ(frame.depth.at<float>(7, 9), (1000 + 100 * i) / units_per_metre) << i;
+  }
+}
+
+// --depth-topic: a bag's depth images (16UC1 in millimetres unless --depth-scale says otherwise),
+// each image taking the one recorded nearest it; a topic that is missing or not of raw images
+// is refused naming the bag, one of another encoding skips its image.
+TEST_F(BagTest, DepthTopicGivesEachImageTheDepthMapRecordedNearest) {
+  const std::vector<BagImage> images = RouteImages(*route_, 6);
+  const std::string folder = dir_.File("rgbd");
+  WriteRos2Bag(folder, kTopic, images, BagEncoding::kBgr8);
+  AddRos2Topic(folder, "/camera/depth", DepthMaps(images), BagEncoding::kDepth16);
+  AddRos2Topic(folder, "/camera/compressed", images, BagEncoding::kPng);
+  SequenceOptions options;
+  options.topic = kTopic;
+  options.depth_topic = "/camera/depth";
+  ExpectDepthMaps(*ImageSequence::Open(folder, options), 6, 1000);
+  options.depth_units_per_metre = 5000;
+  ExpectDepthMaps(*ImageSequence::Open(folder, options), 6, 5000);
+
+  options.depth_topic = "/camera/nothing";
+  ExpectInputError([&] { ImageSequence::Open(folder, options); }, folder,
+                   "no depth topic /camera/nothing in the bag; its image topics: "
+                   "/camera/image_raw");
+  options.depth_topic = "/camera/compressed";
+  ExpectInputError([&] { ImageSequence::Open(folder, options); }, folder,
+                   "depth topic /camera/compressed is of sensor_msgs/msg/CompressedImage, not "
+                   "sensor_msgs Image (16UC1 or 32FC1)");
+  options.depth_topic.clear();
+  options.depth_folder = dir_.File("depth");
+  ExpectInputError([&] { ImageSequence::Open(folder, options); }, folder,
+                   "--depth reads a folder of depth maps; a bag's are a topic (--depth-topic)");
+  options.depth_folder.clear();
+  options.depth_topic = kTopic;  // colour images as depth
+  auto sequence = ImageSequence::Open(folder, options);
+  Frame frame;
+  ASSERT_TRUE(sequence->Next(&frame));
+  EXPECT_EQ(frame.error, "depth encoding 'bgr8' is not read (16UC1, mono16 or 32FC1 are)");
+  EXPECT_TRUE(frame.image.empty());
+
+  if (!testing::CanWriteRos1Bag()) GTEST_SKIP() << "built without rosbag_storage";
+  const std::string bag = dir_.File("rgbd.bag");
+  testing::WriteRos1Bag(bag, kTopic, images, BagEncoding::kBgr8);
+  testing::AddRos1Topic(bag, "/camera/depth", DepthMaps(images), BagEncoding::kDepth16);
+  options.depth_topic = "/camera/depth";
+  options.depth_units_per_metre = 0;  // millimetres
+  ExpectDepthMaps(*ImageSequence::Open(bag, options), 6, 1000);
+}
+
 // The CLI on a bag finds the loop closures it finds on the same images in a folder.
 TEST_F(BagTest, CommandLineOnBagsAsOnTheirImages) {
   const std::vector<BagImage> images = RouteImages(*route_, route_->size());
   fs::create_directories(dir_.File("images"));
   for (size_t i = 0; i < images.size(); ++i) {
-    cv::imwrite(dir_.File("images/" + std::to_string(i + 1) + ".png"), images[i].bgr);
+    cv::imwrite(dir_.File("images/" + std::to_string(i + 1) + ".png"), images[i].pixels);
   }
   WriteRos2Bag(dir_.File("ros2"), kTopic, images, BagEncoding::kBgr8);
   std::vector<std::string> inputs = {dir_.File("images"), dir_.File("ros2")};

@@ -25,17 +25,22 @@ struct Outcome {
   std::string output;  // stdout and stderr
 };
 
-// `environment`: "NAME=value ..." set for the tool only.
-inline Outcome MemloopWithEnvironment(const std::string& environment,
-                                      const std::string& arguments) {
+// A shell command's exit code and output (stdout and stderr).
+inline Outcome Shell(const std::string& command) {
   Outcome outcome;
-  FILE* pipe = popen((environment + " " + MEMLOOP_CLI + " " + arguments + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   char buffer[4096];
   size_t read = 0;
   while ((read = fread(buffer, 1, sizeof(buffer), pipe)) > 0) outcome.output.append(buffer, read);
   const int status = pclose(pipe);
   outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return outcome;
+}
+
+// `environment`: "NAME=value ..." set for the tool only.
+inline Outcome MemloopWithEnvironment(const std::string& environment,
+                                      const std::string& arguments) {
+  return Shell(environment + " " + MEMLOOP_CLI + " " + arguments);
 }
 
 inline Outcome Memloop(const std::string& arguments) {

@@ -1,6 +1,7 @@
 // The whole detector on the generated route, whose ground truth is exact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <future>
 #include <map>
 #include <random>
@@ -303,7 +304,10 @@ TEST(DetectorIntegrationTest, MapFileHoldsEveryLocationAndLoopClosure) {
   ASSERT_EQ(records.size(), loops.size());
   for (size_t i = 0; i < loops.size(); ++i) {
     EXPECT_EQ(records[i].query_image, loops[i].image_index);
+    // The matched image, first of the location's images, is the one whose keypoints it holds
+    // (the pose's view).
     EXPECT_EQ(records[i].match_image, loops[i].loop_closure_images.front());
+    EXPECT_EQ(records[i].match_image, loops[i].loop_closure_geometry.match_view);
     EXPECT_EQ(records[i].match_location, loops[i].loop_closure_id);
   }
   // Every location links only to locations that exist, and every word it holds is stored.

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "cli_helpers.h"
@@ -37,6 +39,27 @@ std::vector<Result> AcceptedOnTheShortRoute(const std::string& map) {
     if (result.HasLoopClosure()) accepted.push_back(std::move(result));
   }
   return accepted;
+}
+
+// A run CSV's rows as column name -> cell (a quoted cell keeps its quotes).
+std::vector<std::map<std::string, std::string>> CsvTable(const std::string& path) {
+  std::istringstream in(ReadFile(path));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::istringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::map<std::string, std::string>& cells = rows.emplace_back();
+    size_t column = 0;
+    for (std::string cell; column < names.size() && std::getline(row, cell, ',');) {
+      cells[names[column++]] = cell;
+    }
+    for (; column < names.size(); ++column) cells[names[column]];
+  }
+  return rows;
 }
 
 TEST(LoopGeometryResultTest, AcceptedLoopClosuresCarryTheGeometryTheExportGives) {
@@ -73,26 +96,20 @@ TEST(LoopGeometryResultTest, AcceptedLoopClosuresCarryTheGeometryTheExportGives)
   EXPECT_GT(with_inliers, 0);
   EXPECT_GT(posed, 0);
 
-  // The export of the closed map: the same geometry wherever it compares the same two views.
-  std::map<std::pair<ImageIndex, ImageIndex>, const LoopGeometry*> found;
-  for (const Result& result : accepted) {
-    const LoopGeometry& g = result.loop_closure_geometry;
-    found[{g.query_view, g.match_view}] = &g;
-  }
-  int compared = 0;
-  for (const ExportedLoopClosure& loop : ExportLoopClosures(map, {300, 300, 160, 120})) {
-    const auto same = found.find({loop.geometry.query_view, loop.geometry.match_view});
-    if (same == found.end()) continue;  // a view absorbed since
-    ++compared;
-    EXPECT_EQ(loop.geometry.inliers.size(), same->second->inliers.size());
-    EXPECT_EQ(loop.geometry.has_pose, same->second->has_pose);
-    if (loop.geometry.has_pose) {
-      for (int k = 0; k < 9; ++k) {
-        EXPECT_NEAR(loop.geometry.rotation[k], same->second->rotation[k], 1e-9);
-      }
+  // The export of the closed map: each loop closure between the same two images, with the pose
+  // found at detection.
+  const std::vector<ExportedLoopClosure> exported = ExportLoopClosures(map, {300, 300, 160, 120});
+  ASSERT_EQ(exported.size(), accepted.size());
+  for (size_t k = 0; k < accepted.size(); ++k) {
+    const LoopGeometry& found = accepted[k].loop_closure_geometry;
+    EXPECT_EQ(exported[k].query.index, accepted[k].image_index);
+    EXPECT_EQ(exported[k].match.index, found.match_view);
+    ASSERT_EQ(exported[k].geometry.has_pose, found.has_pose);
+    EXPECT_EQ(exported[k].loop.pose.inliers, static_cast<int>(found.inliers.size()));
+    for (int i = 0; i < 9 && found.has_pose; ++i) {
+      EXPECT_NEAR(exported[k].geometry.rotation[i], found.rotation[i], 1e-9);
     }
   }
-  EXPECT_GT(compared, 0);  // rehearsal merges most query views into later locations
 }
 
 // Each accepted loop closure's geometry is kept in the map as it was found (before Rehearsal
@@ -165,31 +182,75 @@ TEST(LoopGeometryResultTest, EveryLoopClosureRowHasAPoseOrAReason) {
                               " --set memory.time_limit_ms=0 camera.fx=300 camera.fy=300 "
                               "camera.cx=160 camera.cy=120");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  std::istringstream in(ReadFile(csv));
-  std::string line;
-  std::getline(in, line);
-  std::map<std::string, size_t> column;
-  std::istringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) column[name] = column.size();
   int loops = 0, posed = 0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::istringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    cells.resize(column.size());
-    if (cells[column.at("matched_image")].empty()) {
-      EXPECT_TRUE(cells[column.at("rel_qw")].empty() && cells[column.at("pose_reason")].empty());
+  for (const auto& row : CsvTable(csv)) {
+    if (row.at("matched_image").empty()) {
+      EXPECT_TRUE(row.at("rel_qw").empty() && row.at("pose_reason").empty());
       continue;
     }
     ++loops;
-    const bool has_pose = !cells[column.at("rel_qw")].empty();
+    const bool has_pose = !row.at("rel_qw").empty();
     posed += has_pose;
-    EXPECT_NE(has_pose, cells[column.at("pose_reason")].size() > 2) << line;  // quoted
-    EXPECT_EQ(cells[column.at("rel_metric")], has_pose ? "0" : "") << line;
-    EXPECT_GE(std::stoi(cells[column.at("inliers")]), 0) << line;
+    EXPECT_NE(has_pose, row.at("pose_reason").size() > 2) << row.at("image");  // quoted
+    EXPECT_EQ(row.at("rel_metric"), has_pose ? "0" : "") << row.at("image");   // no depth
+    EXPECT_GE(std::stoi(row.at("inliers")), 0) << row.at("image");
   }
   EXPECT_GT(loops, 20);
   EXPECT_GT(posed, 0);
+}
+
+// Writes `folder`/NAME.png for each image NAME of a TUM folder's rgb.txt: 16-bit depth maps of
+// `image_size`, all `value` (the generated route is a flat world seen square on: one depth fits
+// it), and with `listing`, `folder`/../depth.txt giving them by the images' time stamps.
+void WriteFlatDepth(const std::string& tum, const std::string& folder, uint16_t value,
+                    bool listing) {
+  std::filesystem::create_directories(folder);
+  std::ofstream depth_txt;
+  if (listing) depth_txt.open(tum + "/depth.txt");
+  std::istringstream images(ReadFile(tum + "/rgb.txt"));
+  for (std::string line; std::getline(images, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::string stamp = line.substr(0, line.find(' '));
+    const std::string stem = std::filesystem::path(line.substr(line.find(' ') + 1)).stem();
+    const cv::Mat image = cv::imread(tum + "/" + line.substr(line.find(' ') + 1));
+    cv::imwrite(folder + "/" + stem + ".png", cv::Mat(image.size(), CV_16UC1, cv::Scalar(value)));
+    if (listing) depth_txt << stamp << " depth/" << stem << ".png\n";
+  }
+}
+
+// With depth maps (a TUM folder's depth.txt, or --depth DIR), loop closures' translations are in
+// metres: the same loop closures, twice the depth, twice the translation.
+TEST(LoopGeometryResultTest, WithDepthTranslationsAreInMetres) {
+  testing::TempDir dir;
+  const std::string walk = dir.File("walk");
+  ASSERT_EQ(Memloop("generate " + walk + " --layout tum").exit_code, 0);
+  WriteFlatDepth(walk, walk + "/depth", 10000, true);  // TUM's 5000 a metre: 2 m
+  WriteFlatDepth(walk, dir.File("mm"), 4000, false);   // --depth's 1000 a metre: 4 m
+  const std::string settings =
+      " --set memory.time_limit_ms=0 camera.fx=300 camera.fy=300 camera.cx=160 camera.cy=120";
+  const Outcome at_2m = Memloop("run " + walk + " --out " + dir.File("2m.csv") + settings);
+  ASSERT_EQ(at_2m.exit_code, 0) << at_2m.output;
+  const Outcome at_4m = Memloop("run " + walk + " --depth " + dir.File("mm") + " --out " +
+                                dir.File("4m.csv") + settings);
+  ASSERT_EQ(at_4m.exit_code, 0) << at_4m.output;
+  const auto near = CsvTable(dir.File("2m.csv")), far = CsvTable(dir.File("4m.csv"));
+  ASSERT_EQ(near.size(), far.size());
+  int metric = 0, loops = 0;
+  for (size_t i = 0; i < near.size(); ++i) {
+    ASSERT_EQ(near[i].at("matched_image"), far[i].at("matched_image"));  // detection unchanged
+    if (near[i].at("matched_image").empty()) continue;
+    ++loops;
+    if (near[i].at("rel_metric") != "1") continue;
+    ++metric;
+    ASSERT_EQ(far[i].at("rel_metric"), "1") << i;
+    for (const char* axis : {"rel_tx", "rel_ty", "rel_tz"}) {
+      EXPECT_NEAR(std::stod(far[i].at(axis)), 2 * std::stod(near[i].at(axis)), 1e-4)
+          << i << " " << axis;
+    }
+    EXPECT_NEAR(std::stod(far[i].at("rel_qw")), std::stod(near[i].at("rel_qw")), 1e-6) << i;
+  }
+  EXPECT_GT(loops, 20);
+  EXPECT_GE(metric, loops * 9 / 10);
 }
 
 // `export --format g2o --poses TRAJECTORY` of a run: a vertex per image, the first fixed, an

@@ -286,9 +286,9 @@ TEST_F(MultiSessionTest, CommandLineNewSessionInspectAndResumeCheck) {
     with_inliers += loop["inliers"].size() >= 8;
     if (loop["pose"].is_null()) continue;
     ++posed;
-    if (loop["pose"]["translation_direction"].is_null()) continue;  // a rotation alone
+    if (loop["pose"]["translation"].is_null()) continue;  // a rotation alone
     double norm = 0;
-    for (double value : loop["pose"]["translation_direction"]) norm += value * value;
+    for (double value : loop["pose"]["translation"]) norm += value * value;
     EXPECT_NEAR(norm, 1, 1e-6);
   }
   EXPECT_GE(sessions_linked, 10);

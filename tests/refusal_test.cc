@@ -71,6 +71,23 @@ TEST_F(RefusalTest, RefusedRunsChangeAndCreateNoFile) {
       "is also the run's CSV");
 }
 
+// Depth maps given wrong: refused in one line naming the input or the option, nothing created.
+TEST_F(RefusalTest, DepthGivenWrongIsRefusedInOneLine) {
+  ExpectRefusedUntouched("run " + Images() + " --depth " + dir_.File("nowhere"), 1,
+                         dir_.File("nowhere") + ": --depth: not a folder");
+  fs::create_directories(dir_.File("depth"));
+  std::ofstream(dir_.File("depth/other.png")) << "x";
+  ExpectRefusedUntouched("run " + Images() + " --depth " + dir_.File("depth"), 1,
+                         "--depth: holds no depth map named as the images are (e.g. 1.png)");
+  ExpectRefusedUntouched("run " + Images() + " --depth-topic /camera/depth", 1,
+                         "--depth-topic /camera/depth names a topic of a bag, and this is not one");
+  for (const char* scale : {"0", "-3", "nan"}) {
+    ExpectRefusedUntouched(
+        "run " + Images() + " --depth-scale " + scale, 2,
+        std::string("--depth-scale: must be units per metre, over 0, not '") + scale + "'");
+  }
+}
+
 // Damaged, truncated and newer maps, and a damaged resume checkpoint: every use of them is
 // refused with one line, and no file is created or changed (before: SQLite left an empty -wal
 // and a 32 KB -shm beside each, and inspect printed the whole quick_check report, up to 101

@@ -13,5 +13,8 @@ namespace memloop::testing {
 bool CanWriteRos1Bag();
 void WriteRos1Bag(const std::string& path, const std::string& topic,
                   const std::vector<BagImage>& images, BagEncoding encoding);
+// Another image topic in the bag WriteRos1Bag wrote.
+void AddRos1Topic(const std::string& path, const std::string& topic,
+                  const std::vector<BagImage>& images, BagEncoding encoding);
 
 }  // namespace memloop::testing

@@ -224,7 +224,7 @@ TEST_F(RosNodeTest, QueueModeGivesTheLoopClosuresOfTheCommandLine) {
                                 "_memory/max_wm_locations:=30"},
                                log);
   WaitConnected();
-  for (const BagImage& frame : frames) images_.publish(ImageMessage(frame.bgr, frame.stamp));
+  for (const BagImage& frame : frames) images_.publish(ImageMessage(frame.pixels, frame.stamp));
   const long long count = static_cast<long long>(frames.size());
   ASSERT_TRUE(WaitFor([&] { return Diagnostic("images processed") == count; })) << ReadFile(log);
   ASSERT_TRUE(WaitFor([&] {

@@ -69,6 +69,11 @@ class Detector {
   // The same, with the image's name and time stamp, which the map records (MapImage). Throws
   // InputError for an index of a new session that is not after the earlier sessions' images.
   Result Process(const cv::Mat& image, const ImageInfo& info);
+  // The same with the image's depth map, registered to it (same size): 16-bit unsigned in
+  // millimetres or 32-bit float in metres, 0 (or NaN) where there is no reading; empty: none. With
+  // camera.fx..cy set, a loop closure's translation is then metric (Result's geometry, the map).
+  // Throws InputError naming "depth" for another type or size, nothing changed.
+  Result Process(const cv::Mat& image, const cv::Mat& depth, const ImageInfo& info = {});
 
   // Writes a checkpoint and waits until it is committed with everything before it: a crash
   // after Flush() loses nothing (memory.checkpoint_interval bounds the loss otherwise).

@@ -17,8 +17,11 @@ struct Frame {
   std::string name;  // file name (a dataset's: as its listing names it), or "frame N" of a video
   double timestamp = kNoTimestamp;  // seconds (types.h)
   cv::Mat image;                    // empty when unreadable
-  std::string error;                // why it is unreadable ("" when readable)
-  int dropped = 0;  // camera frames lost since the previous frame (the caller was too slow)
+  // Its depth map, registered to it, in metres (CV_32F, 0 where there is no reading); empty when
+  // the input has none for it (Detector::Process(image, depth)).
+  cv::Mat depth;
+  std::string error;  // why it is unreadable ("" when readable)
+  int dropped = 0;    // camera frames lost since the previous frame (the caller was too slow)
 };
 
 // How a folder lists its images (`memloop run --format`).
@@ -42,6 +45,12 @@ struct SequenceOptions {
   InputFormat format = InputFormat::kAuto;
   // A bag's topic of sensor_msgs Image or CompressedImage; "" = its only image topic.
   std::string topic;
+  // Depth maps registered to the images. A TUM RGB-D folder's depth.txt is read without asking.
+  std::string depth_folder;  // a folder of depth maps named by the images' file stems
+  std::string depth_topic;   // a bag's depth image topic (16UC1 or 32FC1), nearest time stamp
+  // A 16-bit depth map's units per metre: 0 = the input's own (TUM: 5000; otherwise 1000,
+  // millimetres, as ROS's 16UC1). A 32-bit float map is in metres.
+  double depth_units_per_metre = 0;
 };
 
 class ImageSequence {

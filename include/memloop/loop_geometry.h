@@ -39,7 +39,9 @@ struct LoopGeometry {
   bool has_pose = false;
   std::array<double, 9> rotation{};     // row-major
   std::array<double, 4> quaternion{};   // x, y, z, w of `rotation`
-  std::array<double, 3> translation{};  // unit direction; 0 when not known
+  std::array<double, 3> translation{};  // metres when translation_metric, else a unit direction
+  // With the query image's depth (Detector::Process(image, depth)): from PnP, in metres.
+  bool translation_metric = false;
   // False when a rotation alone explains the matches (a baseline too short for a direction).
   bool translation_known = false;
   int pose_inliers = 0;  // of the model chosen (essential: in front of both cameras)

@@ -47,7 +47,16 @@ struct PoseGraphOptions {
   // The camera's pose in the frame the trajectory's poses are of (the robot's base): loop
   // closures, measured between cameras, are turned into edges between bases.
   PoseArray camera_to_base{0, 0, 0, 0, 0, 0, 1};
+  // The odometry edges' standard deviations, per edge: translation (metres, each axis) and
+  // rotation (radians), written as g2o information (1/sigma^2 and, for its half-angle rotation
+  // error, 4/sigma^2).
+  double odometry_sigma_metres = 0.05;
+  double odometry_sigma_radians = 0.02;
 };
+
+// "METRES,RADIANS" for PoseGraphOptions' odometry sigmas, both over 0; ParameterError naming
+// `--odometry-sigma` otherwise.
+void ParseOdometrySigma(const std::string& text, PoseGraphOptions& graph);
 
 // Writes `loops` to `path` as a g2o pose graph or as pairs of images with their relative pose
 // (docs/export.md): both need the relative poses, so `intrinsics` must be known (ParameterError).

@@ -75,7 +75,8 @@ struct Result {
 
   // The accepted loop closure, kNoLocation when none.
   LocationId loop_closure_id = kNoLocation;
-  // Images of the matched location: the one that created it first.
+  // Images of the matched location, the matched image first: the one whose keypoints it holds
+  // (Rehearsal may have given it an older image's), which loop_closure_geometry's pose is to.
   std::vector<ImageIndex> loop_closure_images;
   // With camera.fx and camera.fy set: the geometry between the image and the matched location's
   // view (epipolar inliers, relative pose), as `memloop export` gives it; empty otherwise.

@@ -33,6 +33,18 @@ struct SyntheticRouteOptions {
   // A street front under the textures (blocks of their own gray and height): large-scale
   // structure, which the day-night tests need (a change of light leaves it, not the small shapes).
   bool facades = false;
+  // The camera that sees it, for metric depth and poses: focal length in pixels (the principal
+  // point at the image centre) and the distance from the camera to the textured wall, in metres.
+  // The loop is a circle, the wall a cylinder around it; the detours go into the circle and back.
+  double focal_px = 300;
+  double wall_distance_m = 2;
+};
+
+// A camera pose in a world frame (z up): position in metres and the camera's rotation as a
+// quaternion x, y, z, w (camera frame: x right, y down, z forward), as a TUM trajectory gives it.
+struct CameraPose {
+  cv::Vec3d position;
+  cv::Vec4d quaternion;
 };
 
 class SyntheticRoute {
@@ -52,13 +64,22 @@ class SyntheticRoute {
   memloop::GroundTruth Truth() const;
   // Every (query, match) with match < query and IsLoop(query, match).
   std::vector<std::pair<int, int>> GroundTruthPairs() const;
+  // Where the camera was at frame `index`: the ground truth of a pose graph.
+  CameraPose Pose(int index) const;
+  // The depth of every pixel of frame `index`, in metres: the wall, square on, at the frame's
+  // distance (its zoom jitter moves the camera).
+  double Depth(int index) const;
   // Writes images/1.png .. images/N.png and ground_truth_pairs.csv ("query,match" file names)
-  // into `folder`, the layout of the data sets in ../shared/datasets. `written`, when given, is
-  // called after each image with the number written so far.
+  // into `folder`, the layout of the data sets in ../shared/datasets; a TUM folder also gets
+  // depth/N.png with depth.txt, groundtruth.txt (Pose), odometry.txt (DriftedOdometry's) and
+  // camera.conf (the camera.* parameters).
+  // `written`, when given, is called after each image with the number written so far.
   void Write(const std::string& folder, const std::function<void(int)>& written = {},
              GeneratedLayout layout = GeneratedLayout::kImages) const;
 
  private:
+  void WriteRgbd(const std::string& folder) const;
+
   struct Frame {
     double x;  // world position of the view's left edge (loop coordinate when in_loop)
     bool in_loop;

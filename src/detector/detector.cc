@@ -9,6 +9,7 @@
 #include "detector/consistency.h"
 #include "detector/detector_setup.h"
 #include "detector/hypothesis.h"
+#include "detector/image_view.h"
 #include "detector/likelihood.h"
 #include "detector/loop_acceptance.h"
 #include "detector/loop_geometry.h"
@@ -70,11 +71,12 @@ class Detector::Impl {
   }
 
   // The paper's Fig. 1, one call per box.
-  Result Process(const cv::Mat& image, const ImageInfo& info) {
+  Result Process(const cv::Mat& image, const cv::Mat& depth, const ImageInfo& info) {
     if (closed_) throw Error("Detector::Process called after Close()");
     if (failed_) throw Error("Detector::Process called after a failed iteration");
     ltm_.CheckWriter();                  // a map that no longer follows memory stops the run here
     const cv::Mat gray = ToGray(image);  // bad input is refused before anything changes
+    depth_ = DepthInMetres(depth, image.size());
     sessions_.CheckImage(info.index);
     try {
       return localizing_ ? Localize(gray, info) : Iterate(gray, info);
@@ -305,6 +307,8 @@ class Detector::Impl {
     signature.image = result.image_index;
     signature.whole_image = WholeImageOf(gray);
     Appearance appearance = Describe(signature, features.descriptors, first_new_word);
+    if (options_.camera.fx > 0)
+      image_view_ = ImageView(std::move(features), depth_, IntrinsicsOf(options_.camera));
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
     counters_.newest_location = location.id;
@@ -413,25 +417,17 @@ class Detector::Impl {
     memory_.at(t).weight += memory_.at(i).weight + 1;
     editor_.LinkLoopClosure(t, i);
     result.loop_closure_images = memory_.at(i).images;  // with the past matches it absorbed
-    DescribeGeometry(t, i, result);
-    ltm_.RecordLoopClosure({result.image_index, memory_.at(i).images.front(), t, i,
-                            hypothesis.value,
-                            KeptPose(result.loop_closure_geometry, options_.camera.fx > 0)});
-  }
-
-  // camera.fx..cy: the two views' epipolar inliers and relative pose, for a SLAM back-end.
-  void DescribeGeometry(LocationId t, LocationId i, Result& result) const {
-    const CameraOptions& camera = options_.camera;
-    if (camera.fx <= 0) {
-      result.loop_closure_geometry.pose_problem =
-          "the camera's intrinsics are not set (camera.fx..cy)";
-      return;
-    }
+    // camera.fx..cy: the pose for a SLAM back-end, from this image's and L_i's keypoints.
     result.loop_closure_geometry =
-        EstimateLoopGeometry(memory_.at(t).signature, memory_.at(i).signature,
-                             {camera.fx, camera.fy, camera.cx, camera.cy}, options_.verification);
-    result.loop_closure_geometry.query_view = ViewOf(memory_.at(t));
-    result.loop_closure_geometry.match_view = ViewOf(memory_.at(i));
+        DescribeLoopClosure(image_view_, result.image_index, memory_.at(i), memory_.dictionary(),
+                            IntrinsicsOf(options_.camera), options_.verification);
+    // The matched image is the one whose keypoints L_i holds, the view the pose is to: first.
+    std::vector<ImageIndex>& images = result.loop_closure_images;
+    const auto view =
+        std::find(images.begin(), images.end(), result.loop_closure_geometry.match_view);
+    if (view != images.end()) std::rotate(images.begin(), view, view + 1);
+    ltm_.RecordLoopClosure({result.image_index, images.front(), t, i, hypothesis.value,
+                            KeptPose(result.loop_closure_geometry, options_.camera.fx > 0)});
   }
 
   // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
@@ -571,6 +567,8 @@ class Detector::Impl {
   RolledView rolled_view_;  // surf.rolled_view_degrees: this image's second view
   // This image's own words when Rehearsal gave its location older ones (filter.support_from_image).
   std::optional<Signature> image_words_;
+  cv::Mat depth_;             // this image's, in metres; empty without
+  DescribedView image_view_;  // this image's keypoints for a loop closure's pose (camera.fx..cy)
   LoopAcceptance acceptance_{options_, memory_, ltm_, appearance_.get()};  // III-D's checks
   bool closed_ = false;
   SessionNumbering sessions_;
@@ -590,10 +588,13 @@ Detector::~Detector() {
 Result Detector::Process(const cv::Mat& image, ImageIndex image_index) {
   ImageInfo info;
   info.index = image_index;
-  return impl_->Process(image, info);
+  return impl_->Process(image, cv::Mat(), info);
 }
 Result Detector::Process(const cv::Mat& image, const ImageInfo& info) {
-  return impl_->Process(image, info);
+  return impl_->Process(image, cv::Mat(), info);
+}
+Result Detector::Process(const cv::Mat& image, const cv::Mat& depth, const ImageInfo& info) {
+  return impl_->Process(image, depth, info);
 }
 
 void Detector::Flush() { impl_->Flush(); }

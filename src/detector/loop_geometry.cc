@@ -6,7 +6,6 @@
 #include <opencv2/calib3d.hpp>
 #include <sstream>
 
-#include "detector/word_correspondences.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -81,14 +80,51 @@ RotationOnly EstimateRotationOnly(const std::vector<cv::Point2f>& query,
   return best;
 }
 
-void SetPose(const cv::Matx33d& r, const cv::Vec3d* t, int inliers, LoopGeometry& geometry) {
+// `t` is normalized unless `metric`.
+void SetPose(const cv::Matx33d& r, const cv::Vec3d* t, int inliers, LoopGeometry& geometry,
+             bool metric = false) {
   geometry.has_pose = true;
   geometry.pose_inliers = inliers;
   for (int i = 0; i < 9; ++i) geometry.rotation[i] = r(i / 3, i % 3);
   geometry.quaternion = QuaternionOf(r);
   geometry.translation_known = t != nullptr;
-  const double norm = t ? cv::norm(*t) : 0;
+  geometry.translation_metric = metric;
+  const double norm = t ? (metric ? 1.0 : cv::norm(*t)) : 0;
   for (int i = 0; i < 3; ++i) geometry.translation[i] = norm > 0 ? (*t)[i] / norm : 0;
+}
+
+// With the query view's depth: x_match = R X_query + t from the query's 3-D points and the
+// match's pixels (PnP in RANSAC, then Levenberg-Marquardt on the inliers), in metres. False when
+// fewer than kMinimum correspondences have depth or fit: the caller falls back to the epipolar
+// pose.
+bool EstimateMetricPose(const WordCorrespondences& matched, const CameraIntrinsics& k,
+                        double ransac_pixels, LoopGeometry& geometry) {
+  constexpr int kMinimum = 12;
+  std::vector<cv::Point3f> points;
+  std::vector<cv::Point2f> pixels;
+  for (size_t i = 0; i < matched.points_a.size(); ++i) {
+    if (matched.points_a[i].z <= 0) continue;
+    points.push_back(matched.points_a[i]);
+    pixels.push_back(matched.in_b[i]);
+  }
+  if (static_cast<int>(points.size()) < kMinimum) return false;
+  const cv::Matx33d camera(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  if (!cv::solvePnPRansac(points, pixels, camera, cv::noArray(), rvec, tvec, false, 500,
+                          static_cast<float>(ransac_pixels), 0.999, inliers, cv::SOLVEPNP_EPNP) ||
+      static_cast<int>(inliers.size()) < kMinimum) {
+    return false;
+  }
+  std::vector<cv::Point3f> fit_points;
+  std::vector<cv::Point2f> fit_pixels;
+  for (int i : inliers) fit_points.push_back(points[i]), fit_pixels.push_back(pixels[i]);
+  cv::solvePnPRefineLM(fit_points, fit_pixels, camera, cv::noArray(), rvec, tvec);
+  cv::Mat rotation;
+  cv::Rodrigues(rvec, rotation);
+  const cv::Vec3d t(tvec);
+  SetPose(cv::Matx33d(rotation), &t, static_cast<int>(inliers.size()), geometry, true);
+  return true;
 }
 
 // The pose between the two views from the inliers, through the essential matrix (recoverPose
@@ -133,12 +169,34 @@ double ParseNumber(const std::string& text, const std::string& option, const std
 LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match,
                                   const CameraIntrinsics& intrinsics,
                                   const VerificationOptions& verification) {
+  return EstimateLoopGeometry(UniqueWordCorrespondences(query, match), intrinsics, verification);
+}
+
+LoopGeometry DescribeLoopClosure(const DescribedView& image, ImageIndex image_index,
+                                 const Location& match, const Dictionary& dictionary,
+                                 const CameraIntrinsics& intrinsics,
+                                 const VerificationOptions& options) {
   LoopGeometry geometry;
-  const WordCorrespondences matched = UniqueWordCorrespondences(query, match);
+  if (!intrinsics.known()) {
+    geometry.pose_problem = "the camera's intrinsics are not set (camera.fx..cy)";
+  } else {
+    geometry = EstimateLoopGeometry(
+        MatchDescriptors(image, WordDescribedView(match.signature, dictionary)), intrinsics,
+        options);
+  }
+  geometry.query_view = image_index;
+  geometry.match_view = ViewOf(match);
+  return geometry;
+}
+
+LoopGeometry EstimateLoopGeometry(const WordCorrespondences& matched,
+                                  const CameraIntrinsics& intrinsics,
+                                  const VerificationOptions& verification) {
+  LoopGeometry geometry;
   geometry.correspondences = matched.size();
   if (matched.size() < 8) {  // the eight-point algorithm's minimum
     geometry.pose_problem = std::to_string(matched.size()) +
-                            " word correspondences between the views (the epipolar fit needs 8)";
+                            " correspondences between the views (the epipolar fit needs 8)";
     return geometry;
   }
   std::vector<unsigned char> mask;
@@ -165,6 +223,9 @@ LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match
     return geometry;
   }
   cv::setRNGSeed(0);
+  if (EstimateMetricPose(matched, intrinsics, verification.ransac_pixels, geometry)) {
+    return geometry;
+  }
   EstimatePose(in_query, in_match, intrinsics, verification.ransac_pixels, geometry);
   if (!geometry.has_pose) {
     geometry.pose_problem = "no pose fits the " + std::to_string(in_query.size()) +
@@ -215,6 +276,7 @@ LoopClosurePose KeptPose(const LoopGeometry& geometry, bool intrinsics_known) {
   pose.estimated = true;
   pose.inliers = static_cast<int>(geometry.inliers.size());
   pose.has_pose = geometry.has_pose;
+  pose.metric = geometry.translation_metric;
   if (geometry.has_pose) {
     pose.translation = geometry.translation;
     pose.quaternion = geometry.quaternion;

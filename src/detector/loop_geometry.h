@@ -5,7 +5,9 @@
 #include <array>
 #include <opencv2/core.hpp>
 
+#include "detector/descriptor_correspondences.h"
 #include "detector/location.h"
+#include "detector/word_correspondences.h"
 #include "memloop/loop_geometry.h"
 #include "memloop/map_info.h"
 #include "memloop/options.h"
@@ -28,9 +30,28 @@ cv::Matx33d RotationOf(const std::array<double, 4>& quaternion);
 // intrinsics were known, else a reason saying they were not.
 LoopClosurePose KeptPose(const LoopGeometry& geometry, bool intrinsics_known);
 
-// RANSAC is seeded: the same views give the same geometry.
+// From keypoint correspondences (a: query, b: match): the fundamental matrix's inliers and, with
+// the intrinsics, the pose: metric (PnP) when the query's points have depth, else from the
+// essential matrix or a rotation alone. RANSAC is seeded: the same views give the same geometry.
+LoopGeometry EstimateLoopGeometry(const WordCorrespondences& matched,
+                                  const CameraIntrinsics& intrinsics,
+                                  const VerificationOptions& options);
+// The same from the words two signatures share (a map's locations, after the fact).
 LoopGeometry EstimateLoopGeometry(const Signature& query, const Signature& match,
                                   const CameraIntrinsics& intrinsics,
                                   const VerificationOptions& options);
+
+// An accepted loop closure's geometry: the image being processed (`image`, its own keypoints and
+// descriptors, with depth its points: image_view.h) against the keypoints the matched location
+// holds, described by their words. The views are the image and ViewOf(match), the image the
+// pose is to. Without intrinsics (camera.fx..cy), the views and a reason only.
+LoopGeometry DescribeLoopClosure(const DescribedView& image, ImageIndex image_index,
+                                 const Location& match, const Dictionary& dictionary,
+                                 const CameraIntrinsics& intrinsics,
+                                 const VerificationOptions& options);
+
+inline CameraIntrinsics IntrinsicsOf(const CameraOptions& camera) {
+  return {camera.fx, camera.fy, camera.cx, camera.cy};
+}
 
 }  // namespace memloop

@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <random>
 
+#include "detector/word_correspondences.h"
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
 
@@ -89,6 +90,57 @@ TEST(LoopGeometryTest, ACameraTurnedWhereItStandsGivesItsRotationAndNoDirection)
   EXPECT_EQ(geometry.translation, (std::array<double, 3>{0, 0, 0}));
   EXPECT_GE(geometry.pose_inliers, 58);
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(geometry.rotation[i], r(i / 3, i % 3), 1e-3) << i;
+}
+
+// The query view's keypoints with their 3-D points (an RGB-D image) and the match's pixels.
+WordCorrespondences WithDepth(const cv::Matx33d& r, const cv::Vec3d& t, const CameraIntrinsics& k,
+                              int points, int without_depth) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> lateral(-1.5, 1.5), depth(1.5, 4);
+  WordCorrespondences matched;
+  for (int i = 0; i < points; ++i) {
+    const cv::Vec3d in_match(lateral(random), lateral(random), depth(random));
+    const cv::Vec3d in_query = r.t() * (in_match - t);
+    const auto pixel = [&](const cv::Vec3d& x) {
+      return cv::Point2f(static_cast<float>(k.fx * x[0] / x[2] + k.cx),
+                         static_cast<float>(k.fy * x[1] / x[2] + k.cy));
+    };
+    matched.in_a.push_back(pixel(in_query));
+    matched.in_b.push_back(pixel(in_match));
+    matched.points_a.emplace_back(in_query);
+    if (i < without_depth) matched.points_a.back() = {0, 0, 0};  // a hole in the depth map
+  }
+  return matched;
+}
+
+TEST(LoopGeometryTest, WithDepthTheTranslationIsInMetres) {
+  const CameraIntrinsics k{525, 525, 319.5, 239.5};
+  cv::Matx33d r;
+  cv::Rodrigues(cv::Vec3d(0.05, -0.2, 0.1), r);
+  const cv::Vec3d t(0.12, -0.03, 0.25);  // metres
+  WordCorrespondences matched = WithDepth(r, t, k, 80, 10);
+  // Three wrong pairings: PnP's RANSAC leaves them out.
+  std::swap(matched.in_b[20], matched.in_b[21]);
+  std::swap(matched.in_b[30], matched.in_b[31]);
+  matched.in_b[40].x += 40;
+  VerificationOptions verification;
+  verification.ransac_pixels = 1;
+  const LoopGeometry geometry = EstimateLoopGeometry(matched, k, verification);
+  ASSERT_TRUE(geometry.has_pose);
+  EXPECT_TRUE(geometry.translation_metric);
+  EXPECT_TRUE(geometry.translation_known);
+  // 70 points with depth, 5 of them misplaced: 65 fit.
+  EXPECT_EQ(geometry.pose_inliers, 65);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(geometry.translation[i], t[i], 1e-4) << i;
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(geometry.rotation[i], r(i / 3, i % 3), 1e-4) << i;
+
+  // Depth at too few keypoints (11 of 12 needed): the epipolar pose, a direction of length 1.
+  const WordCorrespondences sparse = WithDepth(r, t, k, 80, 69);
+  const LoopGeometry direction = EstimateLoopGeometry(sparse, k, verification);
+  ASSERT_TRUE(direction.has_pose);
+  EXPECT_FALSE(direction.translation_metric);
+  const double norm = cv::norm(t);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(direction.translation[i], t[i] / norm, 1e-2) << i;
 }
 
 TEST(LoopGeometryTest, FewerThanEightSharedWordsGiveNoGeometry) {

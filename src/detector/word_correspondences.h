@@ -11,6 +11,8 @@ namespace memloop {
 
 struct WordCorrespondences {
   std::vector<cv::Point2f> in_a, in_b;  // the same word's keypoint in each signature
+  // a's keypoints in 3-D (its camera's frame, metres; z = 0: no depth), when a's view has depth.
+  std::vector<cv::Point3f> points_a;
   int size() const { return static_cast<int>(in_a.size()); }
 };
 

@@ -19,6 +19,7 @@ void UseKeptPose(const LoopClosurePose& pose, LoopGeometry& geometry) {
   geometry.quaternion = pose.quaternion;
   geometry.translation = pose.translation;
   geometry.translation_known = pose.translation != std::array<double, 3>{};
+  geometry.translation_metric = pose.metric;
   geometry.pose_inliers = pose.inliers;
   const cv::Matx33d rotation = RotationOf(pose.quaternion);
   for (int i = 0; i < 9; ++i) geometry.rotation[i] = rotation(i / 3, i % 3);
@@ -59,6 +60,10 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
                                                intrinsics, options.verification);
       exported.geometry.query_view = ViewOf(query_location);
       exported.geometry.match_view = ViewOf(match_location);
+      if (!loop.pose.estimated) {  // the pose joins the views (their keypoints' images)
+        exported.query = image_of(exported.geometry.query_view);
+        exported.match = image_of(exported.geometry.match_view);
+      }
     } else {
       exported.geometry.pose_problem = "a view is not in the map's LTM (the map is not closed)";
     }

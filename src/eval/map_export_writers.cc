@@ -19,12 +19,12 @@ namespace {
 
 // Information of a loop-closure edge's rotation. g2o's EDGE_SE3:QUAT error takes the vector part
 // of the error quaternion, about half the angle: an angle of sigma 0.05 rad (about the 90th
-// percentile measured on tum_fr1_rpy) is 1 / (0.05 / 2)^2. Its translation is a direction whose
-// length odometry gives: information 1e-6.
+// percentile measured on tum_fr1_rpy) is 1 / (0.05 / 2)^2. Its translation, with depth, is in
+// metres: 3 cm (about the 95th percentile there), 1 / 0.03^2; without, a direction whose length
+// odometry gives: information 1e-6.
 constexpr double kLoopRotationInformation = 1600;
-// Odometry edges (from the trajectory): 5 cm and 0.02 rad (sigma), in g2o's convention too.
-constexpr double kOdometryTranslationInformation = 400;
-constexpr double kOdometryRotationInformation = 10000;
+constexpr double kLoopMetricTranslationInformation = 1111;
+constexpr double kLoopDirectionInformation = 1e-6;
 // A trajectory pose stands for an image when their time stamps are this close, in seconds.
 constexpr double kStampTolerance = 0.01;
 
@@ -114,13 +114,14 @@ std::map<ImageIndex, Rigid> Vertices(const std::vector<MapImage>& images,
 }
 
 // A loop closure between cameras as an edge between bases: B_match^-1 B_query =
-// X C_match^-1 C_query X^-1 for the camera's pose X in the base frame. memloop's translations are
-// directions of unit length (one camera, no depth): rotated into the base frame, not moved by
-// the lever arm, which needs a length.
+// X C_match^-1 C_query X^-1 for the camera's pose X in the base frame. A metric translation
+// (depth) takes the whole change of frame; a direction of unit length (one camera) is rotated
+// into the base frame, not moved by the lever arm, which needs a length.
 PoseArray BaseEdge(const LoopGeometry& g, const Rigid& camera_to_base) {
   const Rigid between =
       Rigid::Of({g.translation[0], g.translation[1], g.translation[2], g.quaternion[0],
                  g.quaternion[1], g.quaternion[2], g.quaternion[3]});
+  if (g.translation_metric) return (camera_to_base * between * camera_to_base.Inverse()).Array();
   const Rigid in_base{camera_to_base.rotation * between.rotation * camera_to_base.rotation.t(),
                       camera_to_base.rotation * between.translation};
   return in_base.Array();
@@ -143,8 +144,10 @@ void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<M
     out << "FIX " << vertices.begin()->first << "\n";
     for (auto at = vertices.begin(); std::next(at) != vertices.end(); ++at) {
       const auto next = std::next(at);
+      // g2o's rotation error is about half the angle: information 4 / sigma^2.
       WriteEdge(out, at->first, next->first, (at->second.Inverse() * next->second).Array(),
-                kOdometryTranslationInformation, kOdometryRotationInformation);
+                1 / (graph.odometry_sigma_metres * graph.odometry_sigma_metres),
+                4 / (graph.odometry_sigma_radians * graph.odometry_sigma_radians));
     }
   }
   for (const ExportedLoopClosure& loop : loops) {
@@ -153,7 +156,8 @@ void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<M
       WriteNoPose(loop, out);
       continue;
     }
-    WriteEdge(out, loop.match.index, loop.query.index, BaseEdge(g, camera_to_base), 1e-6,
+    WriteEdge(out, loop.match.index, loop.query.index, BaseEdge(g, camera_to_base),
+              g.translation_metric ? kLoopMetricTranslationInformation : kLoopDirectionInformation,
               kLoopRotationInformation);
   }
 }
@@ -161,8 +165,9 @@ void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<M
 // One line per loop closure: both images' time stamps (their indices when the map has none),
 // then the query camera's pose in the match camera's frame.
 void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out) {
-  out << "# memloop loop closures: query_timestamp match_timestamp tx ty tz qx qy qz qw (the "
-         "query camera in the match camera's frame; translation of unit length)\n";
+  out << "# memloop loop closures: query_timestamp match_timestamp tx ty tz qx qy qz qw metric "
+         "(the query camera in the match camera's frame; metric 1: translation in metres, 0: of "
+         "unit length or 0 0 0)\n";
   const auto stamp = [](const MapImage& image) {
     return HasTimestamp(image.timestamp) ? image.timestamp : image.index;
   };
@@ -173,15 +178,31 @@ void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out
       continue;
     }
     char text[512];
-    std::snprintf(text, sizeof(text), "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
+    std::snprintf(text, sizeof(text), "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %d\n",
                   stamp(loop.query), stamp(loop.match), g.translation[0], g.translation[1],
                   g.translation[2], g.quaternion[0], g.quaternion[1], g.quaternion[2],
-                  g.quaternion[3]);
+                  g.quaternion[3], g.translation_metric ? 1 : 0);
     out << text;
   }
 }
 
 }  // namespace
+
+void ParseOdometrySigma(const std::string& text, PoseGraphOptions& graph) {
+  std::stringstream fields(text);
+  double metres = 0, radians = 0;
+  char comma = 0;
+  std::string rest;
+  if (!(fields >> metres >> comma >> radians) || comma != ',' || (fields >> rest) ||
+      !std::isfinite(metres) || !std::isfinite(radians) || metres <= 0 || radians <= 0) {
+    throw ParameterError("--odometry-sigma",
+                         "--odometry-sigma: expected METRES,RADIANS, both over 0 (e.g. "
+                         "0.05,0.02), not '" +
+                             text + "'");
+  }
+  graph.odometry_sigma_metres = metres;
+  graph.odometry_sigma_radians = radians;
+}
 
 PoseArray ParsePose(const std::string& text, const std::string& option) {
   PoseArray pose{};

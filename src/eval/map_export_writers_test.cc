@@ -104,6 +104,61 @@ TEST(PoseGraphExportTest, CameraToBaseTurnsLoopClosuresIntoTheBasesFrame) {
   EXPECT_NEAR(pose[6], 0.9659258262890683, 1e-9);
 }
 
+// With depth, a translation in metres: the edge takes the lever arm too (X C X^-1), and its
+// translation information is 1 / (3 cm)^2 instead of a direction's 1e-6; pairs say metric 1.
+TEST(PoseGraphExportTest, MetricLoopClosuresTakeTheWholeChangeOfFrame) {
+  testing::TempDir dir;
+  PoseGraphOptions graph;
+  // The camera 0.5 m ahead of the base, turned 90 degrees about z.
+  graph.camera_to_base = ParsePose("0.5,0,0,0,0,0.7071067811865476,0.7071067811865476", "x");
+  ExportedLoopClosure loop = Loop(2, 0, true);
+  loop.geometry.translation_metric = true;
+  loop.geometry.translation = {0.2, 0, 0};  // 20 cm along the camera's x
+  loop.geometry.quaternion = {0, 0, 0.7071067811865476, 0.7071067811865476};  // 90 deg about z
+  const std::string out = dir.File("graph.g2o");
+  WriteLoopClosures({loop}, ExportFormat::kG2o, {300, 300, 160, 120}, out, {}, graph);
+  std::istringstream edge(Lines(out).at(0));
+  std::string tag;
+  int from = 0, to = 0;
+  double values[7 + 21];
+  edge >> tag >> from >> to;
+  for (double& value : values) edge >> value;
+  // X C X^-1 with X = (R_z(90), (0.5, 0, 0)), C = (R_z(90), (0.2, 0, 0)): the translation is
+  // R_X t_C + t_X - R_X R_C R_X^T t_X = (0, 0.2, 0) + (0.5, 0, 0) - (0, 0.5, 0) = (0.5, -0.3, 0).
+  EXPECT_NEAR(values[0], 0.5, 1e-9);
+  EXPECT_NEAR(values[1], -0.3, 1e-9);
+  EXPECT_NEAR(values[2], 0, 1e-9);
+  EXPECT_NEAR(values[5], 0.7071067811865476, 1e-9);
+  EXPECT_EQ(values[7], 1111);   // translation information, x
+  EXPECT_EQ(values[22], 1600);  // rotation information, x
+
+  WriteLoopClosures({loop}, ExportFormat::kPairs, {300, 300, 160, 120}, dir.File("pairs.txt"));
+  const std::string pair = Lines(dir.File("pairs.txt")).at(0);
+  EXPECT_EQ(pair.substr(pair.size() - 2), " 1") << pair;  // metric
+}
+
+TEST(PoseGraphExportTest, OdometrySigmaSetsTheOdometryInformation) {
+  PoseGraphOptions graph;
+  ParseOdometrySigma("0.01,0.1", graph);
+  EXPECT_DOUBLE_EQ(graph.odometry_sigma_metres, 0.01);
+  EXPECT_DOUBLE_EQ(graph.odometry_sigma_radians, 0.1);
+  testing::TempDir dir;
+  const std::string trajectory = dir.File("odometry.txt");
+  std::ofstream(trajectory) << "1.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n";
+  graph.trajectory = trajectory;
+  WriteLoopClosures({}, ExportFormat::kG2o, {300, 300, 160, 120}, dir.File("g.g2o"),
+                    Images({1.0, 2.0}), graph);
+  // 1 / 0.01^2 and 4 / 0.1^2.
+  EXPECT_NE(Lines(dir.File("g.g2o"))
+                .at(3)
+                .find(" 10000 0 0 0 0 0 10000 0 0 0 0 10000 0 0 0 400 0 0 400 0 400"),
+            std::string::npos)
+      << Lines(dir.File("g.g2o")).at(3);
+  for (const char* bad : {"0.05", "0,0.02", "0.05,-1", "a,b", "0.05,0.02,1", "nan,0.02"}) {
+    EXPECT_THROW(ParseOdometrySigma(bad, graph), ParameterError) << bad;
+  }
+}
+
 TEST(PoseGraphExportTest, BadTrajectoriesPosesAndTheTumFormatAreRefusedSayingWhy) {
   testing::TempDir dir;
   const std::string bad = dir.File("bad.txt");

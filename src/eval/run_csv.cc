@@ -66,9 +66,9 @@ std::string RelativePose(const Result& result) {
   const LoopGeometry& g = result.loop_closure_geometry;
   if (!g.has_pose) return ",,,,,,,," + Quoted(g.pose_problem);
   char text[256];
-  std::snprintf(text, sizeof(text), "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,0,", g.translation[0],
+  std::snprintf(text, sizeof(text), "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,", g.translation[0],
                 g.translation[1], g.translation[2], g.quaternion[0], g.quaternion[1],
-                g.quaternion[2], g.quaternion[3]);
+                g.quaternion[2], g.quaternion[3], g.translation_metric ? 1 : 0);
   return text;
 }
 

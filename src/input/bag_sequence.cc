@@ -1,9 +1,13 @@
 #include "input/bag_sequence.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "input/dataset_listing.h"
+#include "input/depth_map.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -58,14 +62,38 @@ BagTopic ChooseTopic(const std::string& path, const std::vector<BagTopic>& topic
   return images.front();
 }
 
+// The depth topic of --depth-topic: a second reader of the bag, selecting that topic.
+struct DepthTopic {
+  std::string name;
+  std::unique_ptr<BagSource> source;
+  std::vector<double> times;  // recording times, in order
+  double units_per_metre = 1000;
+};
+
+// --depth-topic: a topic of sensor_msgs Image (depth maps are not JPEG or PNG compressed here).
+BagTopic ChooseDepthTopic(const std::string& path, const std::vector<BagTopic>& topics,
+                          const std::string& wanted) {
+  for (const BagTopic& topic : topics) {
+    if (topic.name != wanted) continue;
+    if (topic.type == "sensor_msgs/Image" || topic.type == "sensor_msgs/msg/Image") return topic;
+    throw InputError(path, "depth topic " + wanted + " is of " + topic.type +
+                               ", not sensor_msgs Image (16UC1 or 32FC1); the bag's image "
+                               "topics: " +
+                               Listed(topics, true));
+  }
+  throw InputError(
+      path, "no depth topic " + wanted + " in the bag; its image topics: " + Listed(topics, true));
+}
+
 class BagSequence : public ImageSequence {
  public:
   BagSequence(std::unique_ptr<BagSource> source, std::string topic, std::vector<size_t> taken,
-              std::vector<double> times)
+              std::vector<double> times, std::optional<DepthTopic> depth)
       : source_(std::move(source)),
         topic_(std::move(topic)),
         taken_(std::move(taken)),
-        times_(std::move(times)) {}
+        times_(std::move(times)),
+        depth_(std::move(depth)) {}
 
   bool Next(Frame* frame) override {
     if (next_ >= taken_.size()) return false;
@@ -74,7 +102,19 @@ class BagSequence : public ImageSequence {
     frame->error.clear();
     frame->image = cv::Mat();
     frame->dropped = 0;
-    source_->Decode(taken_[next_++], frame);
+    frame->depth.release();
+    const size_t message = taken_[next_++];
+    source_->Decode(message, frame);
+    if (depth_ && frame->error.empty()) {
+      // The depth map recorded nearest, within 20 ms (a 30 Hz camera's two streams are at most
+      // 17 ms apart); an image without one is processed without (its poses up to scale).
+      const int nearest = NearestTime(depth_->times, times_[message], 0.02);
+      if (nearest >= 0) {
+        frame->depth = depth_->source->DecodeDepth(nearest, depth_->units_per_metre, &frame->error);
+        if (!frame->error.empty()) frame->image.release();
+        CheckDepthMatchesImage(depth_->name + " " + std::to_string(depth_->times[nearest]), frame);
+      }
+    }
     return true;
   }
   void SkipTo(ImageIndex first) override {
@@ -94,6 +134,7 @@ class BagSequence : public ImageSequence {
   std::string topic_;
   std::vector<size_t> taken_;  // of the topic's messages, those the rate takes
   std::vector<double> times_;  // every message's recording time
+  std::optional<DepthTopic> depth_;
   size_t next_ = 0;
 };
 
@@ -122,7 +163,20 @@ std::unique_ptr<ImageSequence> OpenBag(const std::string& path, const SequenceOp
     taken.push_back(at++);
   }
   if (taken.empty()) throw InputError(path, "topic " + topic.name + " holds no message");
-  return std::make_unique<BagSequence>(std::move(source), topic.name, std::move(taken), times);
+  std::optional<DepthTopic> depth;
+  if (!options.depth_topic.empty()) {
+    depth.emplace();
+    depth->name = options.depth_topic;
+    depth->source = ros1 ? OpenRos1Bag(path) : OpenRos2Bag(path);
+    depth->times =
+        depth->source->Select(ChooseDepthTopic(path, depth->source->Topics(), options.depth_topic));
+    if (depth->times.empty()) {
+      throw InputError(path, "depth topic " + options.depth_topic + " holds no message");
+    }
+    if (options.depth_units_per_metre > 0) depth->units_per_metre = options.depth_units_per_metre;
+  }
+  return std::make_unique<BagSequence>(std::move(source), topic.name, std::move(taken), times,
+                                       std::move(depth));
 }
 
 }  // namespace memloop

@@ -26,6 +26,9 @@ class BagSource {
   // Message `i` of the selection as an image (frame->image, or frame->error) and the time stamp
   // of its header (its recording time when the header has none).
   virtual void Decode(size_t i, Frame* frame) = 0;
+  // Message `i` of the selection (a sensor_msgs Image) as a depth map in metres (CV_32F), or
+  // empty with `error` saying why.
+  virtual cv::Mat DecodeDepth(size_t i, double units_per_metre, std::string* error) = 0;
 };
 
 // Throws InputError naming `path` when it is not a readable bag of that kind.
@@ -37,8 +40,9 @@ bool Ros1BagSupported();  // built with rosbag_storage
 bool IsBag(const std::string& path);
 
 // The images of `options.topic` (or of the bag's only image topic) at `options.rate_hz` by their
-// recording times. Throws InputError naming `path`, listing the bag's image topics, when the
-// topic is missing, is not of images, or is not given and the bag has several.
+// recording times; with `options.depth_topic`, each with the depth map recorded nearest it. Throws
+// InputError naming `path`, listing the bag's image topics, when the topic is missing, is not of
+// images, or is not given and the bag has several.
 std::unique_ptr<ImageSequence> OpenBag(const std::string& path, const SequenceOptions& options);
 
 }  // namespace memloop

@@ -68,12 +68,16 @@ void CheckTimeOrder(const fs::path& listing, const std::vector<int>& lines,
   if (images.empty()) throw InputError(listing.string(), "the listing holds no image");
 }
 
-// TUM RGB-D: "# comment" lines, then "timestamp filename" with filename relative to the folder.
-DatasetListing ListTum(const fs::path& folder) {
-  const fs::path listing = folder / "rgb.txt";
-  if (!IsFile(listing)) throw InputError(folder.string(), "not a TUM folder (no rgb.txt)");
-  DatasetListing result{InputFormat::kTum, {}, listing.string()};
-  std::vector<int> lines;
+// A TUM RGB-D listing (rgb.txt, depth.txt): "# comment" lines, then "timestamp filename" with
+// filename relative to the folder; each entry with its line number.
+struct TumEntry {
+  int line;
+  double stamp;
+  std::string name;
+};
+
+std::vector<TumEntry> ReadTumListing(const fs::path& listing) {
+  std::vector<TumEntry> entries;
   for (const auto& [number, line] : ReadLines(listing)) {
     if (IsBlankOrComment(line)) continue;
     std::istringstream fields(line);
@@ -81,10 +85,39 @@ DatasetListing ListTum(const fs::path& folder) {
     if (!(fields >> stamp >> name) || (fields >> extra)) {
       LineError(listing, number, "expected 'timestamp filename', not '" + line + "'");
     }
-    result.images.push_back({name, (folder / name).string(), ParseSeconds(listing, number, stamp)});
-    lines.push_back(number);
+    entries.push_back({number, ParseSeconds(listing, number, stamp), name});
+  }
+  return entries;
+}
+
+// TUM RGB-D's depth.txt, when there is one: each image takes the depth map nearest its time
+// stamp within 0.02 s (the benchmark's associate.py), 5000 units per metre (its format).
+void AddTumDepth(const fs::path& folder, DatasetListing& result) {
+  const fs::path listing = folder / "depth.txt";
+  if (!IsFile(listing)) return;
+  std::vector<TumEntry> depths = ReadTumListing(listing);
+  std::stable_sort(depths.begin(), depths.end(),
+                   [](const TumEntry& a, const TumEntry& b) { return a.stamp < b.stamp; });
+  std::vector<double> times;
+  for (const TumEntry& depth : depths) times.push_back(depth.stamp);
+  for (ListedImage& image : result.images) {
+    const int nearest = NearestTime(times, image.timestamp, 0.02);
+    if (nearest >= 0) image.depth_path = (folder / depths[nearest].name).string();
+  }
+  result.depth_units_per_metre = 5000;
+}
+
+DatasetListing ListTum(const fs::path& folder) {
+  const fs::path listing = folder / "rgb.txt";
+  if (!IsFile(listing)) throw InputError(folder.string(), "not a TUM folder (no rgb.txt)");
+  DatasetListing result{InputFormat::kTum, {}, listing.string()};
+  std::vector<int> lines;
+  for (const TumEntry& entry : ReadTumListing(listing)) {
+    result.images.push_back({entry.name, (folder / entry.name).string(), entry.stamp});
+    lines.push_back(entry.line);
   }
   CheckTimeOrder(listing, lines, result.images);
+  AddTumDepth(folder, result);
   return result;
 }
 
@@ -268,6 +301,40 @@ std::vector<ListedImage> SampleAtRate(const std::vector<ListedImage>& images, do
     next = static_cast<long long>(std::floor(elapsed / period)) + 1;
   }
   return taken;
+}
+
+int NearestTime(const std::vector<double>& times, double time, double max_difference) {
+  const auto after = std::lower_bound(times.begin(), times.end(), time);
+  int nearest = -1;
+  double best = max_difference;
+  for (auto it = after == times.begin() ? after : after - 1; it != times.end() && it <= after;
+       ++it) {
+    if (std::abs(*it - time) <= best) {
+      best = std::abs(*it - time);
+      nearest = static_cast<int>(it - times.begin());
+    }
+  }
+  return nearest;
+}
+
+void AddDepthFolder(const std::string& depth_folder, std::vector<ListedImage>& images) {
+  if (!IsFolder(depth_folder)) throw InputError(depth_folder, "--depth: not a folder");
+  int found = 0;
+  for (ListedImage& image : images) {
+    const std::string stem = fs::path(image.path).stem().string();
+    image.depth_path.clear();
+    for (const char* extension : {".png", ".tif", ".tiff", ".exr", ".pfm"}) {
+      const fs::path candidate = fs::path(depth_folder) / (stem + extension);
+      if (!IsFile(candidate)) continue;
+      image.depth_path = candidate.string();
+      ++found;
+      break;
+    }
+  }
+  if (found == 0 && !images.empty()) {
+    throw InputError(depth_folder, "--depth: holds no depth map named as the images are (e.g. " +
+                                       fs::path(images.front().path).stem().string() + ".png)");
+  }
 }
 
 }  // namespace memloop

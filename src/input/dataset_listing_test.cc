@@ -79,6 +79,57 @@ TEST(DatasetListingTest, TumMalformedLinesAndTimeGoingBackAreRefusedByLine) {
   ExpectInputError(open, dir.path().string(), "not a TUM folder (no rgb.txt)");
 }
 
+// A TUM RGB-D folder's depth.txt: each image takes the depth map nearest its time stamp within
+// 20 ms (the benchmark's associate.py), 5000 units a metre.
+TEST(DatasetListingTest, TumDepthListingGivesEachImageTheNearestDepthMap) {
+  testing::TempDir dir;
+  const fs::path root = dir.path();
+  WriteText(root / "rgb.txt", "1.000 rgb/1.png\n1.033 rgb/2.png\n1.500 rgb/3.png\n");
+  WriteText(root / "depth.txt",
+            "# depth maps\n1.010 depth/a.png\n1.040 depth/b.png\n1.300 depth/c.png\n");
+  const DatasetListing listing = ListDataset(root.string(), InputFormat::kAuto);
+  ASSERT_EQ(listing.images.size(), 3u);
+  EXPECT_EQ(listing.images[0].depth_path, (root / "depth" / "a.png").string());  // 10 ms
+  EXPECT_EQ(listing.images[1].depth_path, (root / "depth" / "b.png").string());  // 7 ms, not 23
+  EXPECT_EQ(listing.images[2].depth_path, "");  // 200 ms from the nearest: none
+  EXPECT_DOUBLE_EQ(listing.depth_units_per_metre, 5000);
+
+  WriteText(root / "depth.txt", "1.010 depth/a.png\n1.040\n");
+  ExpectInputError([&] { ListDataset(root.string(), InputFormat::kAuto); },
+                   (root / "depth.txt").string(), "line 2: expected 'timestamp filename'");
+}
+
+TEST(DatasetListingTest, NearestTimeWithinTheTolerance) {
+  const std::vector<double> times = {1.0, 1.03, 1.5};
+  EXPECT_EQ(NearestTime(times, 1.01, 0.02), 0);
+  EXPECT_EQ(NearestTime(times, 1.02, 0.02), 1);  // 10 ms from 1.03, 20 from 1.0
+  EXPECT_EQ(NearestTime(times, 0.99, 0.02), 0);  // before the first
+  EXPECT_EQ(NearestTime(times, 1.3, 0.02), -1);  // 200 ms from either
+  EXPECT_EQ(NearestTime(times, 1.51, 0.02), 2);  // after the last, within
+  EXPECT_EQ(NearestTime(times, 2.0, 0.02), -1);
+  EXPECT_EQ(NearestTime({}, 1.0, 0.02), -1);
+}
+
+// --depth DIR: each image's depth map is the file of its stem (PNG, TIFF, EXR or PFM there).
+TEST(DatasetListingTest, DepthFolderGivesEachImageTheMapOfItsName) {
+  testing::TempDir dir;
+  std::vector<ListedImage> images(3);
+  for (int i = 0; i < 3; ++i) images[i].path = dir.File("images/" + std::to_string(i + 1) + ".jpg");
+  WriteText(dir.path() / "depth" / "1.png", "");
+  WriteText(dir.path() / "depth" / "2.tiff", "");
+  WriteText(dir.path() / "depth" / "2.jpg", "");  // not a depth map's format
+  AddDepthFolder(dir.File("depth"), images);
+  EXPECT_EQ(images[0].depth_path, dir.File("depth/1.png"));
+  EXPECT_EQ(images[1].depth_path, dir.File("depth/2.tiff"));
+  EXPECT_EQ(images[2].depth_path, "");  // that image goes without
+  ExpectInputError([&] { AddDepthFolder(dir.File("images"), images); }, dir.File("images"),
+                   "--depth: not a folder");
+  fs::remove(dir.path() / "depth" / "1.png");
+  fs::remove(dir.path() / "depth" / "2.tiff");
+  ExpectInputError([&] { AddDepthFolder(dir.File("depth"), images); }, dir.File("depth"),
+                   "--depth: holds no depth map named as the images are (e.g. 1.png)");
+}
+
 TEST(DatasetListingTest, ListedImageThatIsMissingIsAFrameWithAnError) {
   testing::TempDir dir;
   WriteText(dir.path() / "rgb.txt", "1.0 rgb/1.png\n1.5 rgb/gone.png\n");

@@ -12,6 +12,7 @@
 #include "input/bag_sequence.h"
 #include "input/capture_sequence.h"
 #include "input/dataset_listing.h"
+#include "input/depth_map.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -59,8 +60,10 @@ cv::Mat ReadImage(const std::string& path, std::string* error) {
 // A plain folder or a dataset's listing: images known by name before any is read.
 class ListedSequence : public ImageSequence {
  public:
-  ListedSequence(InputFormat format, std::vector<ListedImage> images)
-      : format_(format), images_(std::move(images)) {}
+  ListedSequence(InputFormat format, std::vector<ListedImage> images, double depth_units_per_metre)
+      : format_(format),
+        images_(std::move(images)),
+        depth_units_per_metre_(depth_units_per_metre) {}
 
   void SkipTo(ImageIndex first) override {
     next_ = std::max(next_, std::min(images_.size(), static_cast<size_t>(std::max(first, 0))));
@@ -74,6 +77,12 @@ class ListedSequence : public ImageSequence {
     frame->timestamp = image.timestamp;
     frame->error.clear();
     frame->image = ReadImage(image.path, &frame->error);
+    frame->depth.release();
+    if (frame->error.empty() && !image.depth_path.empty()) {
+      frame->depth = ReadDepth(image.depth_path, depth_units_per_metre_, &frame->error);
+      if (!frame->error.empty()) frame->image.release();
+      CheckDepthMatchesImage(image.depth_path, frame);
+    }
     return true;
   }
   int size() const override { return static_cast<int>(images_.size()); }
@@ -85,6 +94,7 @@ class ListedSequence : public ImageSequence {
  private:
   InputFormat format_;
   std::vector<ListedImage> images_;
+  double depth_units_per_metre_;
   size_t next_ = 0;
 };
 
@@ -140,6 +150,12 @@ namespace {
 
 // NaN passes `rate_hz > 0` checks as false and `rate_hz <= 0` ones as false too: refused here.
 void CheckRate(const SequenceOptions& options) {
+  if (!std::isfinite(options.depth_units_per_metre) || options.depth_units_per_metre < 0) {
+    throw ParameterError("--depth-scale",
+                         "--depth-scale: must be a 16-bit depth map's units per metre, over 0 "
+                         "(1000: millimetres), not " +
+                             std::to_string(options.depth_units_per_metre));
+  }
   if (!std::isfinite(options.rate_hz) || options.rate_hz < 0) {
     throw ParameterError("--rate",
                          "--rate: must be a finite number of frames per second (0: "
@@ -162,7 +178,17 @@ std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
                                  " reads a folder of images, and this is a bag (--topic "
                                  "chooses its images)");
     }
+    if (!options.depth_folder.empty()) {
+      throw InputError(path,
+                       "--depth reads a folder of depth maps; a bag's are a topic "
+                       "(--depth-topic)");
+    }
     return OpenBag(path, options);
+  }
+  if (!options.depth_topic.empty()) {
+    throw InputError(path, "--depth-topic " + options.depth_topic +
+                               " names a topic of a bag, and this is not one (--depth DIR gives a "
+                               "folder's depth maps)");
   }
   if (!options.topic.empty()) {
     throw InputError(path, "--topic " + options.topic +
@@ -176,12 +202,22 @@ std::unique_ptr<ImageSequence> ImageSequence::Open(const std::string& path,
                        "a rate needs timestamps: a dataset folder (TUM rgb.txt, EuRoC data.csv, "
                        "KITTI times.txt), a video or a camera, not a plain folder of images");
     }
+    if (!options.depth_folder.empty()) {
+      AddDepthFolder(options.depth_folder, listing.images);
+      listing.depth_units_per_metre = 1000;  // millimetres, as ROS's 16UC1 (not TUM's)
+    }
+    const double units = options.depth_units_per_metre > 0   ? options.depth_units_per_metre
+                         : listing.depth_units_per_metre > 0 ? listing.depth_units_per_metre
+                                                             : 1000;
     return std::make_unique<ListedSequence>(listing.format,
-                                            SampleAtRate(listing.images, options.rate_hz));
+                                            SampleAtRate(listing.images, options.rate_hz), units);
   }
   if (options.format != InputFormat::kAuto) {
     throw InputError(path, std::string("--format ") + InputFormatName(options.format) +
                                " reads a folder, and this is a file (a video needs no --format)");
+  }
+  if (!options.depth_folder.empty()) {
+    throw InputError(path, "--depth gives depth maps to a folder's images, and this is a video");
   }
   return OpenVideo(path, options.rate_hz);
 }

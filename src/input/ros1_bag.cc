@@ -65,6 +65,20 @@ class Ros1Bag : public BagSource {
     }
   }
 
+  cv::Mat DecodeDepth(size_t i, double units_per_metre, std::string* error) override {
+    try {
+      const auto image = messages_[i].instantiate<sensor_msgs::Image>();
+      if (!image) {
+        *error = "the depth topic's messages are not sensor_msgs/Image";
+        return cv::Mat();
+      }
+      return DecodeRawDepth(RawImageOf(*image), units_per_metre, error);
+    } catch (const std::exception& failure) {
+      *error = std::string("depth message does not decode (") + failure.what() + ")";
+      return cv::Mat();
+    }
+  }
+
  private:
   std::string path_;
   rosbag::Bag bag_;

@@ -149,15 +149,12 @@ class Ros2Bag : public BagSource {
   }
 
   void Decode(size_t i, Frame* frame) override {
-    const auto [file, id] = messages_[i];
-    SqliteStatement query(*files_[file], "SELECT timestamp, data FROM messages WHERE id = ?");
-    query.Bind(1, id);
-    if (!query.Step()) {
-      frame->error = "message missing from the bag";
+    double recorded = 0;
+    const std::vector<unsigned char> bytes = Message(i, &recorded, &frame->error);
+    if (bytes.empty()) {
+      if (frame->error.empty()) frame->error = kNotCdr;
       return;
     }
-    const double recorded = query.Int(0) * 1e-9;
-    const std::vector<unsigned char> bytes = query.Blob(1);
     CdrReader cdr(bytes);
     const double stamp = HeaderStamp(cdr);
     frame->timestamp = stamp > 0 ? stamp : recorded;
@@ -166,20 +163,57 @@ class Ros2Bag : public BagSource {
       const auto [data, size] = cdr.Bytes();
       if (cdr.ok()) frame->image = DecodeCompressedImage(data, size, &frame->error);
     } else {
-      RawImage raw;
-      raw.height = cdr.U32();
-      raw.width = cdr.U32();
-      raw.encoding = cdr.String();
-      raw.big_endian = cdr.U8() != 0;
-      raw.step = cdr.U32();
-      std::tie(raw.data, raw.size) = cdr.Bytes();
+      const RawImage raw = ReadRawImage(cdr);
       if (cdr.ok()) frame->image = DecodeRawImage(raw, &frame->error);
     }
-    if (!cdr.ok())
-      frame->error = "not a CDR message of its type (truncated or of another encoding)";
+    if (!cdr.ok()) frame->error = kNotCdr;
+  }
+
+  cv::Mat DecodeDepth(size_t i, double units_per_metre, std::string* error) override {
+    double recorded = 0;
+    const std::vector<unsigned char> bytes = Message(i, &recorded, error);
+    if (bytes.empty()) {
+      if (error->empty()) *error = std::string("depth: ") + kNotCdr;
+      return cv::Mat();
+    }
+    CdrReader cdr(bytes);
+    HeaderStamp(cdr);
+    const RawImage raw = ReadRawImage(cdr);
+    if (!cdr.ok()) {
+      *error = std::string("depth: ") + kNotCdr;
+      return cv::Mat();
+    }
+    return DecodeRawDepth(raw, units_per_metre, error);
   }
 
  private:
+  static constexpr const char* kNotCdr =
+      "not a CDR message of its type (truncated or of another encoding)";
+
+  // Message `i` of the selection's bytes and recording time; empty with `error` when missing.
+  std::vector<unsigned char> Message(size_t i, double* recorded, std::string* error) {
+    const auto [file, id] = messages_[i];
+    SqliteStatement query(*files_[file], "SELECT timestamp, data FROM messages WHERE id = ?");
+    query.Bind(1, id);
+    if (!query.Step()) {
+      *error = "message missing from the bag";
+      return {};
+    }
+    *recorded = query.Int(0) * 1e-9;
+    return query.Blob(1);
+  }
+  // A sensor_msgs/msg/Image's fields after its header; its data stays in the message.
+  static RawImage ReadRawImage(CdrReader& cdr) {
+    RawImage raw;
+    raw.height = cdr.U32();
+    raw.width = cdr.U32();
+    raw.encoding = cdr.String();
+    raw.big_endian = cdr.U8() != 0;
+    raw.step = cdr.U32();
+    std::tie(raw.data, raw.size) = cdr.Bytes();
+    return raw;
+  }
+
   std::string path_;
   std::vector<std::unique_ptr<SqliteConnection>> files_;
   std::vector<BagTopic> topics_;

@@ -1,9 +1,38 @@
 #include "input/ros_image.h"
 
+#include <algorithm>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace memloop {
+namespace {
+
+// The pixels as a `type` matrix (a copy, in this machine's byte order), or empty with `error`
+// when the data is shorter than the size says.
+cv::Mat PixelsOf(const RawImage& image, int type, std::string* error) {
+  const size_t row_bytes = static_cast<size_t>(image.width) * CV_ELEM_SIZE(type);
+  if (image.height == 0 || image.width == 0 || image.step < row_bytes ||
+      image.size < static_cast<size_t>(image.height) * image.step) {
+    *error = "image data is shorter than its size says (" + std::to_string(image.width) + "x" +
+             std::to_string(image.height) + ", step " + std::to_string(image.step) + ", " +
+             std::to_string(image.size) + " bytes)";
+    return cv::Mat();
+  }
+  cv::Mat pixels = cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                           const_cast<uint8_t*>(image.data), image.step)
+                       .clone();
+  if (image.big_endian && CV_ELEM_SIZE1(type) > 1) {
+    for (int y = 0; y < pixels.rows; ++y) {
+      uint8_t* row = pixels.ptr<uint8_t>(y);
+      const size_t element = CV_ELEM_SIZE1(type);
+      for (size_t x = 0; x < row_bytes; x += element) std::reverse(row + x, row + x + element);
+    }
+  }
+  return pixels;
+}
+
+}  // namespace
 
 cv::Mat DecodeRawImage(const RawImage& image, std::string* error) {
   const std::string& encoding = image.encoding;
@@ -26,38 +55,38 @@ cv::Mat DecodeRawImage(const RawImage& image, std::string* error) {
              "' is not read (mono8, mono16, bgr8, rgb8, bgra8, rgba8 are; or CompressedImage)";
     return cv::Mat();
   }
-  const size_t row_bytes = static_cast<size_t>(image.width) * CV_ELEM_SIZE(type);
-  if (image.height == 0 || image.width == 0 || image.step < row_bytes ||
-      image.size < static_cast<size_t>(image.height) * image.step) {
-    *error = "image data is shorter than its size says (" + std::to_string(image.width) + "x" +
-             std::to_string(image.height) + ", step " + std::to_string(image.step) + ", " +
-             std::to_string(image.size) + " bytes)";
-    return cv::Mat();
-  }
-  const cv::Mat view(static_cast<int>(image.height), static_cast<int>(image.width), type,
-                     const_cast<uint8_t*>(image.data), image.step);
+  const cv::Mat pixels = PixelsOf(image, type, error);
+  if (pixels.empty()) return pixels;
   cv::Mat result;
   if (type == CV_16UC1) {
-    cv::Mat swapped = view.clone();
-    if (image.big_endian) {
-      for (int y = 0; y < swapped.rows; ++y) {
-        auto* row = swapped.ptr<uint16_t>(y);
-        for (int x = 0; x < swapped.cols; ++x)
-          row[x] = static_cast<uint16_t>((row[x] << 8) | (row[x] >> 8));
-      }
-    }
     // The range the image uses, to 8 bits: a 16-bit camera's values seldom fill 65,535.
     double low = 0, high = 0;
-    cv::minMaxLoc(swapped, &low, &high);
-    swapped.convertTo(result, CV_8U, high > low ? 255.0 / (high - low) : 1,
-                      high > low ? -low * 255.0 / (high - low) : 0);
+    cv::minMaxLoc(pixels, &low, &high);
+    pixels.convertTo(result, CV_8U, high > low ? 255.0 / (high - low) : 1,
+                     high > low ? -low * 255.0 / (high - low) : 0);
     return result;
   }
   if (conversion >= 0) {
-    cv::cvtColor(view, result, conversion);
+    cv::cvtColor(pixels, result, conversion);
     return result;
   }
-  return view.clone();
+  return pixels;
+}
+
+cv::Mat DecodeRawDepth(const RawImage& image, double units_per_metre, std::string* error) {
+  const std::string& encoding = image.encoding;
+  const bool millimetre_like = encoding == "16UC1" || encoding == "mono16";
+  if (!millimetre_like && encoding != "32FC1") {
+    *error = "depth encoding '" + encoding + "' is not read (16UC1, mono16 or 32FC1 are)";
+    return cv::Mat();
+  }
+  const cv::Mat pixels = PixelsOf(image, millimetre_like ? CV_16UC1 : CV_32FC1, error);
+  if (pixels.empty()) return pixels;
+  cv::Mat metres;
+  pixels.convertTo(metres, CV_32F, millimetre_like ? 1.0 / units_per_metre : 1.0);
+  cv::patchNaNs(metres, 0);  // no reading
+  metres.setTo(0, (metres < 0) | (metres > std::numeric_limits<float>::max()));
+  return metres;
 }
 
 cv::Mat DecodeCompressedImage(const uint8_t* data, size_t size, std::string* error) {

@@ -32,6 +32,9 @@ RawImage RawImageOf(const ImageMessage& image) {
 // An 8-bit gray or BGR image (a copy), or empty with `error` saying why (an encoding memloop does
 // not read, data shorter than height x step).
 cv::Mat DecodeRawImage(const RawImage& image, std::string* error);
+// A depth image (16UC1 or mono16 in units of 1 / units_per_metre, 32FC1 in metres) in metres,
+// CV_32F, 0 where there is no reading; or empty with `error`.
+cv::Mat DecodeRawDepth(const RawImage& image, double units_per_metre, std::string* error);
 // A CompressedImage's bytes (JPEG, PNG), or empty with `error`.
 cv::Mat DecodeCompressedImage(const uint8_t* data, size_t size, std::string* error);
 

@@ -52,18 +52,19 @@ std::vector<unsigned char> ImageMessage(const BagImage& image, BagEncoding encod
   cdr.String("camera");
   if (encoding == BagEncoding::kPng) {
     std::vector<unsigned char> png;
-    cv::imencode(".png", image.bgr, png);
+    cv::imencode(".png", image.pixels, png);
     cdr.String("png");
     cdr.Bytes(png.data(), png.size());
     return cdr.bytes();
   }
   cv::Mat pixels;
   std::string name = "bgr8";
-  if (encoding == BagEncoding::kBgr8) pixels = image.bgr;
+  if (encoding == BagEncoding::kBgr8) pixels = image.pixels;
   if (encoding == BagEncoding::kRgb8)
-    cv::cvtColor(image.bgr, pixels, cv::COLOR_BGR2RGB), name = "rgb8";
+    cv::cvtColor(image.pixels, pixels, cv::COLOR_BGR2RGB), name = "rgb8";
   if (encoding == BagEncoding::kMono8)
-    cv::cvtColor(image.bgr, pixels, cv::COLOR_BGR2GRAY), name = "mono8";
+    cv::cvtColor(image.pixels, pixels, cv::COLOR_BGR2GRAY), name = "mono8";
+  if (encoding == BagEncoding::kDepth16) pixels = image.pixels, name = "16UC1";
   pixels = pixels.clone();  // continuous
   cdr.U32(pixels.rows);
   cdr.U32(pixels.cols);

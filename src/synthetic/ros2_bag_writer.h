@@ -9,12 +9,12 @@
 namespace memloop {
 
 struct BagImage {
-  cv::Mat bgr;          // 8-bit BGR
+  cv::Mat pixels;       // 8-bit BGR; kDepth16: 16-bit depth, one channel
   double stamp = 0;     // header stamp, seconds
   double recorded = 0;  // the recorder's time, seconds
 };
 
-enum class BagEncoding { kBgr8, kRgb8, kMono8, kPng };
+enum class BagEncoding { kBgr8, kRgb8, kMono8, kPng, kDepth16 };
 
 // A ROS 2 bag folder (`folder`/metadata.yaml, `folder`/<name>_0.db3) with a std_msgs/msg/String
 // topic /chatter and `images` on `topic` (sensor_msgs/msg/Image, or CompressedImage for kPng).

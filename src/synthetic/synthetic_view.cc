@@ -110,7 +110,7 @@ std::string FrameName(GeneratedLayout layout, int index) {
   if (layout == GeneratedLayout::kImages) return file;
   if (layout == GeneratedLayout::kTum) return "rgb/" + file;
   char name[96];
-  std::snprintf(name, sizeof(name), "%s %.6f", kBagTopic, kFirstStamp + kFramePeriod * index);
+  std::snprintf(name, sizeof(name), "%s %.6f", kBagTopic, GeneratedStamp(index));
   return name;  // as the bag reader names a frame: topic and recording time
 }
 
@@ -122,6 +122,8 @@ void CreateFolder(const std::string& folder) {
 
 }  // namespace
 
+double GeneratedStamp(int index) { return kFirstStamp + kFramePeriod * index; }
+
 void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
                    const std::vector<std::pair<int, int>>& pairs,
                    const std::function<void(int)>& written, GeneratedLayout layout) {
@@ -131,7 +133,12 @@ void WriteSequence(const std::string& folder, int size, const std::function<cv::
   const std::string csv_path = folder + "/ground_truth_pairs.csv";
   // A folder that holds what this would write is kept as it is: it may be a user's data set.
   std::vector<std::string> targets = {layout == GeneratedLayout::kRos2Bag ? bag : images, csv_path};
-  if (tum) targets.push_back(folder + "/rgb.txt");
+  if (tum) {
+    for (const char* file : {"/rgb.txt", "/depth", "/depth.txt", "/groundtruth.txt",
+                             "/odometry.txt", "/camera.conf"}) {
+      targets.push_back(folder + file);
+    }
+  }
   for (const std::string& path : targets) {
     std::error_code error;
     if (std::filesystem::exists(path, error) &&
@@ -145,7 +152,7 @@ void WriteSequence(const std::string& folder, int size, const std::function<cv::
     CreateFolder(folder);
     std::vector<BagImage> frames;
     for (int index = 0; index < size; ++index) {
-      const double stamp = kFirstStamp + kFramePeriod * index;
+      const double stamp = GeneratedStamp(index);
       frames.push_back({render(index), stamp, stamp});
       if (written) written(index + 1);
     }
@@ -164,7 +171,7 @@ void WriteSequence(const std::string& folder, int size, const std::function<cv::
           },
           /*sync=*/false);
       char line[96];
-      std::snprintf(line, sizeof(line), "%.6f %s\n", kFirstStamp + kFramePeriod * index,
+      std::snprintf(line, sizeof(line), "%.6f %s\n", GeneratedStamp(index),
                     FrameName(layout, index).c_str());
       listing += line;
       if (written) written(index + 1);

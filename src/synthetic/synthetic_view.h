@@ -29,6 +29,9 @@ struct ViewJitter {
 cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& jitter, int width,
                    int height, uint64_t noise_seed);
 
+// The time stamp of generated frame `index`, in seconds: 10 Hz from 1000 s.
+double GeneratedStamp(int index);
+
 // Writes frame i from `render(i)` into `folder` in `layout` (generated_layout.h), and
 // `folder`/ground_truth_pairs.csv ("query,match" by the names a run gives the frames). Throws
 // InputError naming the file that cannot be written. `written(n)` after each image, if given.

@@ -124,6 +124,30 @@ def test_a_second_session_with_names_and_time_stamps(route, tmp_path):
         memloop.Detector(options, map_path, resume=True, new_session=True)
 
 
+def test_depth_makes_translations_metric(route, tmp_path):
+    """process(image, depth=...): the generated route is a flat world seen square on, 2 m away."""
+    paths, _ = route
+    options = memloop.Options(NO_TIME_LIMIT)
+    options["camera.fx"], options["camera.fy"] = 300.0, 300.0
+    options["camera.cx"], options["camera.cy"] = 160.0, 120.0
+    metric = loops = 0
+    with memloop.Detector(options, str(tmp_path / "rgbd.db")) as detector:
+        for index, path in enumerate(paths[:190]):
+            image = cv2.imread(path)
+            depth = np.full(image.shape[:2], 2000, dtype=np.uint16)  # millimetres
+            result = detector.process(image, index, depth=depth)
+            if result.has_loop_closure:
+                loops += 1
+                geometry = result.loop_closure_geometry
+                metric += geometry.has_pose and geometry.translation_metric
+                assert result.loop_closure_images[0] == geometry.match_view
+        assert loops > 20 and metric >= 0.9 * loops
+        with pytest.raises(memloop.InputError, match="uint16 .millimetres. or float32"):
+            detector.process(image, 190, depth=np.zeros(image.shape[:2], dtype=np.float64))
+        with pytest.raises(memloop.InputError, match="the depth map is 16x8, the image 320x240"):
+            detector.process(image, 190, depth=np.zeros((8, 16), dtype=np.float32))
+
+
 def test_grey_images_and_results(tmp_path):
     image = np.random.default_rng(3).integers(0, 256, (240, 320), dtype=np.uint8)
     detector = memloop.Detector(memloop.Options(NO_TIME_LIMIT), str(tmp_path / "grey.db"))

@@ -39,8 +39,9 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
     if (g.has_pose) {
       pose = {{"rotation", g.rotation},
               {"quaternion_xyzw", g.quaternion},
-              {"translation_direction",
+              {"translation",
                g.translation_known ? nlohmann::json(g.translation) : nlohmann::json(nullptr)},
+              {"translation_metric", g.translation_metric},
               {"inliers", g.pose_inliers},
               {"source", g.pose_from_detection ? "detection" : "export"}};
     }
@@ -80,6 +81,7 @@ void AddExportCommand(CLI::App& app) {
     std::string intrinsics;
     std::string poses;
     std::string camera_to_base;
+    std::string odometry_sigma;
     std::string out;
   };
   auto arguments = std::make_shared<Arguments>();
@@ -102,6 +104,9 @@ void AddExportCommand(CLI::App& app) {
   command->add_option("--camera-to-base", arguments->camera_to_base,
                       "g2o: the camera's pose tx,ty,tz,qx,qy,qz,qw in the frame of --poses (the "
                       "robot's base): loop closures become edges between bases");
+  command->add_option("--odometry-sigma", arguments->odometry_sigma,
+                      "g2o: the odometry edges' standard deviations METRES,RADIANS per edge "
+                      "(default 0.05,0.02)");
   command->add_option("--out", arguments->out, "File to write")->required();
   command->callback([arguments] {
     const ExportFormat format = ParseExportFormat(arguments->format);
@@ -113,11 +118,13 @@ void AddExportCommand(CLI::App& app) {
     if (!arguments->camera_to_base.empty()) {
       graph.camera_to_base = ParsePose(arguments->camera_to_base, "--camera-to-base");
     }
+    if (!arguments->odometry_sigma.empty()) ParseOdometrySigma(arguments->odometry_sigma, graph);
     if (format != ExportFormat::kG2o &&
-        (!graph.trajectory.empty() || !arguments->camera_to_base.empty())) {
+        (!graph.trajectory.empty() || !arguments->camera_to_base.empty() ||
+         !arguments->odometry_sigma.empty())) {
       throw ParameterError("--poses",
-                           "--poses and --camera-to-base make a g2o pose graph: give "
-                           "--format g2o");
+                           "--poses, --camera-to-base and --odometry-sigma make a g2o pose graph: "
+                           "give --format g2o");
     }
     // Without --intrinsics, the map's own (camera.fx..cy, with which its poses were found).
     const CameraIntrinsics intrinsics = arguments->intrinsics.empty()

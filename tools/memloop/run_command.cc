@@ -44,6 +44,9 @@ void AddRunCommand(CLI::App& app) {
     bool new_session = false;
     std::string format = "auto";
     std::string topic;
+    std::string depth_folder;
+    std::string depth_topic;
+    double depth_scale = 0;
     int camera = -1;
     double rate_hz = 0;
     int realtime_priority = kUsualScheduling;
@@ -61,6 +64,17 @@ void AddRunCommand(CLI::App& app) {
   run->add_option("--topic", arguments->topic,
                   "The bag's topic of sensor_msgs/Image or CompressedImage; default: its only "
                   "image topic");
+  run->add_option("--depth", arguments->depth_folder,
+                  "Folder of depth maps registered to the images, named by their file stems "
+                  "(16-bit PNG or 32-bit float); a TUM folder's depth.txt is read without it. "
+                  "With camera.fx..cy, loop closures' translations are then in metres");
+  run->add_option("--depth-topic", arguments->depth_topic,
+                  "The bag's depth image topic (16UC1 millimetres or 32FC1 metres), registered to "
+                  "--topic; each image takes the depth map nearest its time stamp");
+  run->add_option("--depth-scale", arguments->depth_scale,
+                  "A 16-bit depth map's units per metre; default: 5000 for a TUM folder's "
+                  "depth.txt, else 1000 (millimetres)")
+      ->check(Number("units per metre, over 0", 0, false));
   CLI::Option* camera =
       run->add_option("--camera", arguments->camera,
                       "Live camera number (0 = the first) instead of an input; stop with Ctrl-C")
@@ -124,6 +138,9 @@ void AddRunCommand(CLI::App& app) {
     sequence_options.rate_hz = arguments->rate_hz;
     sequence_options.format = ParseInputFormat(arguments->format);
     sequence_options.topic = arguments->topic;
+    sequence_options.depth_folder = arguments->depth_folder;
+    sequence_options.depth_topic = arguments->depth_topic;
+    sequence_options.depth_units_per_metre = arguments->depth_scale;
     auto sequence = arguments->camera >= 0
                         ? ImageSequence::OpenCamera(arguments->camera, sequence_options)
                         : ImageSequence::Open(arguments->input, sequence_options);

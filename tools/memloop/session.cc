@@ -273,7 +273,7 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       }
       handed = std::chrono::steady_clock::now();
     }
-    Result result = detector->Process(frame.image, info);
+    Result result = detector->Process(frame.image, frame.depth, info);
     if (result.HasLoopClosure()) {
       ++loop_closures;
       if (session.print_loop_closures) progress.Print(result.Brief(), stdout);
