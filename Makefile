@@ -13,8 +13,8 @@ PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev li
 TEST_PACKAGES := chromium python3-pytest python3-opencv libceres-dev
 # The ROS 1 node (ros/, docs/ros.md) and its tests' roscore: Debian's ROS packages. Without
 # them everything else builds; the node is not.
-ROS_PACKAGES := libroscpp-dev libimage-transport-dev libdiagnostic-msgs-dev libstd-srvs-dev \
-                libgeometry-msgs-dev libstd-msgs-dev ros-std-msgs ros-geometry-msgs \
+ROS_PACKAGES := libroscpp-dev libimage-transport-dev libmessage-filters-dev libdiagnostic-msgs-dev \
+                libstd-srvs-dev libgeometry-msgs-dev libstd-msgs-dev ros-std-msgs ros-geometry-msgs \
                 python3-gencpp python3-genpy python3-geometry-msgs ros-core
 # bench/tight_time.sh's PAUSES needs oslat (the machine's own pauses); bench/ros_live.sh rospy's
 # diagnostics messages and cv2.

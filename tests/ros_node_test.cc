@@ -329,6 +329,66 @@ TEST_F(RosNodeTest, UnsupportedEncodingsAreSkippedWithOneErrorEach) {
   EXPECT_EQ(CountLines(text, "encoding bayer_rggb8"), 1) << text;
 }
 
+// ~depth: each image with the depth map stamped nearest it (a flat world 2 m away, seen square
+// on): the loop closures' poses are metric and their covariance says 3 cm. A depth map of another
+// size skips its image, counted.
+TEST_F(RosNodeTest, DepthTopicMakesTheLoopClosuresMetric) {
+  const std::string log = dir_.File("node.log");
+  ros::NodeHandle handle;
+  ros::Publisher depth = handle.advertise<sensor_msgs::Image>("/camera/depth", 1000);
+  const pid_t node = StartNode(
+      {"depth:=/camera/depth", "_depth:=true", "_queue:=true", "_database:=" + dir_.File("map.db"),
+       "_memory/time_limit_ms:=0", "_memory/max_wm_locations:=30", "_camera/fx:=300",
+       "_camera/fy:=300", "_camera/cx:=160", "_camera/cy:=120"},
+      log);
+  ASSERT_TRUE(WaitFor([&] {
+    return images_.getNumSubscribers() > 0 && depth.getNumSubscribers() > 0 &&
+           loop_closures_.getNumPublishers() > 0;
+  })) << ReadFile(log);
+  const auto depth_message = [](int rows, int columns, double stamp) {
+    sensor_msgs::Image message;
+    message.header.stamp = ros::Time(stamp);
+    message.height = rows;
+    message.width = columns;
+    message.encoding = "16UC1";
+    message.step = columns * 2;
+    const cv::Mat millimetres(rows, columns, CV_16UC1, cv::Scalar(2000));
+    message.data.assign(millimetres.data, millimetres.data + millimetres.total() * 2);
+    return message;
+  };
+  // The pairing holds the newest pair until a later image shows it is the nearest: one more.
+  const int count = route_->size();
+  for (int i = 0; i <= count; ++i) {
+    const double stamp = 1000 + 0.1 * i;
+    images_.publish(ImageMessage(route_->Render(i % count), stamp));
+    // The depth camera's stamp a few milliseconds off; image 3's map of another size.
+    depth.publish(i == 3 ? depth_message(10, 10, stamp + 0.004)
+                         : depth_message(240, 320, stamp + 0.004));
+  }
+  ASSERT_TRUE(WaitFor([&] { return Diagnostic("images processed") == count - 1; },
+                      std::chrono::seconds(60)))
+      << ReadFile(log) << " received " << Diagnostic("images received") << ", processed "
+      << Diagnostic("images processed") << " of " << count;
+  EXPECT_EQ(Diagnostic("images skipped"), 1);
+  ASSERT_TRUE(WaitFor([&] {
+    return static_cast<long long>(LoopClosures().size()) == Diagnostic("loop closures");
+  }));
+  EXPECT_GT(LoopClosures().size(), 5u);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_TRUE(last_loop_.has_pose);
+    EXPECT_TRUE(last_loop_.metric);
+    EXPECT_DOUBLE_EQ(last_loop_.pose.covariance[0], 0.03 * 0.03);
+    // Places revisited a lap apart, seen from within the jitter: centimetres to a metre.
+    const auto& p = last_loop_.pose.pose.position;
+    EXPECT_LT(std::hypot(p.x, p.y, p.z), 1.5);
+  }
+  kill(node, SIGINT);
+  EXPECT_EQ(WaitExit(node), 0) << ReadFile(log);
+  EXPECT_EQ(CountLines(ReadFile(log), "the depth map is 10x10, the image 320x240"), 1)
+      << ReadFile(log);
+}
+
 // ~image_transport compressed: the node reads image/compressed (Debian has no compressed
 // image_transport plugin) and decodes JPEG and PNG itself.
 TEST_F(RosNodeTest, CompressedTransportIsDecoded) {
@@ -398,6 +458,14 @@ TEST_F(RosNodeTest, BadParametersRefuseToStartAndASilentTopicIsWarnedAbout) {
   node = StartNode({"_database:=" + dir_.File("a.db"), "_queue:=maybe"}, log);
   EXPECT_EQ(WaitExit(node), 1);
   EXPECT_TRUE(Contains(ReadFile(log), "~queue: 'maybe' is not true or false")) << ReadFile(log);
+  node = StartNode(
+      {"_database:=" + dir_.File("a.db"), "_depth:=true", "_image_transport:=compressed"}, log);
+  EXPECT_EQ(WaitExit(node), 1);
+  EXPECT_TRUE(Contains(ReadFile(log), "~depth pairs raw images with raw depth maps"))
+      << ReadFile(log);
+  node = StartNode({"_database:=" + dir_.File("a.db"), "_depth:=true", "_depth_scale:=0"}, log);
+  EXPECT_EQ(WaitExit(node), 1);
+  EXPECT_TRUE(Contains(ReadFile(log), "~depth_scale: '0' is not")) << ReadFile(log);
   EXPECT_FALSE(std::filesystem::exists(dir_.File("a.db")));
 
   images_.shutdown();  // nobody publishes the images now

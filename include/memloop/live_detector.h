@@ -30,8 +30,8 @@ enum class StreamPolicy {
 struct LiveResult {
   Result result;
   ImageInfo image;  // as handed over (index and name filled in)
-  // The matched location's first image (result.loop_closure_images.front()): its time stamp and
-  // session, as the map recorded them (kNoTimestamp, -1 when unknown).
+  // The matched image (result.loop_closure_images.front()): its time stamp and session, as the
+  // map recorded them (kNoTimestamp, -1 when unknown).
   double match_timestamp = kNoTimestamp;
   int match_session = -1;
   std::chrono::steady_clock::time_point arrival;  // when Push() took the image
@@ -76,6 +76,9 @@ class LiveDetector {
   // Hands an 8-bit gray or BGR image over (copied by reference: the caller must not write to
   // it afterwards); never blocks on the detector. `info.index` is ignored (see the constructor).
   void Push(const cv::Mat& image, ImageInfo info);
+  // The same with the image's depth map, registered to it (Detector::Process's depth: 16-bit
+  // millimetres or 32-bit float metres); one of another size or type refuses the image.
+  void Push(const cv::Mat& image, const cv::Mat& depth, ImageInfo info);
   // An image of the stream that could not be read (an unsupported encoding): it keeps its index,
   // as a frame the CLI skips does, and is counted as refused.
   void Skip();
@@ -96,6 +99,7 @@ class LiveDetector {
  private:
   struct Pending {
     cv::Mat image;
+    cv::Mat depth;  // empty: none
     ImageInfo info;
     std::chrono::steady_clock::time_point arrival;
   };

@@ -1,6 +1,8 @@
 #include "node_configuration.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 
@@ -26,9 +28,9 @@ bool IsTrue(const std::string& name, const std::string& value) {
 }  // namespace
 
 const std::vector<std::string>& NodeParameterNames() {
-  static const std::vector<std::string> names = {"database",     "resume", "new_session",
-                                                 "localization", "queue",  "image_transport",
-                                                 "preset",       "config"};
+  static const std::vector<std::string> names = {
+      "database",        "resume", "new_session", "localization", "queue",
+      "image_transport", "depth",  "depth_scale", "preset",       "config"};
   return names;
 }
 
@@ -43,11 +45,13 @@ NodeConfiguration Configure(const std::vector<std::pair<std::string, std::string
     } else if (FindParameter(RegistryKey(name)) != nullptr) {
       registry.emplace_back(name, value);
     } else {
-      throw ParameterError(name, "~" + name +
-                                     ": unknown parameter (the node's own: ~database, ~resume, "
-                                     "~new_session, ~localization, ~queue, ~image_transport, "
-                                     "~preset, ~config; the detector's: `memloop params`, with "
-                                     "'/' for '.')");
+      throw ParameterError(
+          name,
+          "~" + name +
+              ": unknown parameter (the node's own: ~database, ~resume, "
+              "~new_session, ~localization, ~queue, ~image_transport, "
+              "~depth, ~depth_scale, ~preset, ~config; the detector's: `memloop params`, with "
+              "'/' for '.')");
     }
   }
   const auto flag = [&](const std::string& name) {
@@ -60,6 +64,22 @@ NodeConfiguration Configure(const std::vector<std::pair<std::string, std::string
   if (configuration.image_transport != "raw" && configuration.image_transport != "compressed") {
     throw ParameterError("image_transport", "~image_transport: '" + configuration.image_transport +
                                                 "' is not raw or compressed");
+  }
+  configuration.depth = flag("depth");
+  if (configuration.depth && configuration.image_transport != "raw") {
+    throw ParameterError("depth",
+                         "~depth pairs raw images with raw depth maps: leave "
+                         "~image_transport raw");
+  }
+  if (own.count("depth_scale")) {
+    char* end = nullptr;
+    const double units = std::strtod(own["depth_scale"].c_str(), &end);
+    if (end == own["depth_scale"].c_str() || *end != '\0' || !std::isfinite(units) || units <= 0) {
+      throw ParameterError("depth_scale", "~depth_scale: '" + own["depth_scale"] +
+                                              "' is not a 16UC1 depth map's units per metre "
+                                              "(over 0)");
+    }
+    configuration.depth_units_per_metre = units;
   }
   const bool resume = flag("resume");
   const bool new_session = flag("new_session");

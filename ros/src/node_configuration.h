@@ -18,6 +18,9 @@ struct NodeConfiguration {
   std::string database;  // the map file (~database)
   bool queue = false;    // ~queue: every image in order; false: the newest (LiveDetector)
   std::string image_transport = "raw";  // ~image_transport: raw or compressed
+  // ~depth: each image with the depth map of the depth topic stamped nearest it (raw images).
+  bool depth = false;
+  double depth_units_per_metre = 1000;  // ~depth_scale: a 16UC1 map's units per metre
   std::string notice;                   // a line for the log ("resuming map.db ..."), "" for none
 };
 

@@ -51,6 +51,10 @@ ImageIndex LiveDetector::next_index() const {
 }
 
 void LiveDetector::Push(const cv::Mat& image, ImageInfo info) {
+  Push(image, cv::Mat(), std::move(info));
+}
+
+void LiveDetector::Push(const cv::Mat& image, const cv::Mat& depth, ImageInfo info) {
   const auto arrival = std::chrono::steady_clock::now();
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -64,7 +68,7 @@ void LiveDetector::Push(const cv::Mat& image, ImageInfo info) {
       status_.dropped += static_cast<long long>(waiting_.size());
       waiting_.clear();
     }
-    waiting_.push_back({image, std::move(info), arrival});
+    waiting_.push_back({image, depth, std::move(info), arrival});
   }
   wake_.notify_one();
 }
@@ -191,7 +195,7 @@ void LiveDetector::ProcessOne(Pending& pending) {
   live.image = pending.info;
   live.arrival = pending.arrival;
   try {
-    live.result = detector_->Process(pending.image, pending.info);
+    live.result = detector_->Process(pending.image, pending.depth, pending.info);
   } catch (const InputError& error) {  // this image only: the detector goes on
     {
       std::lock_guard<std::mutex> lock(mutex_);
