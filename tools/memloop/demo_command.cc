@@ -74,7 +74,7 @@ void PrintScored(const Generated& generated, const SessionReport& report) {
 CLI::Option* AddPlaceOptions(CLI::App& command, PlaceSequenceOptions* options) {
   CLI::Option* places =
       command.add_option("--places", options->places,
-                         "A long sequence of this many distinct places (issue 9's scale sequence) "
+                         "A long sequence of this many distinct places (for scale: any length) "
                          "instead of the demo route");
   command.add_option("--frames-per-place", options->frames_per_place, "Frames of each visit")
       ->capture_default_str();
@@ -161,8 +161,9 @@ void AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   generate
       ->add_option("--layout", arguments->layout,
-                   "images (images/N.png), tum (rgb/N.png and rgb.txt, 10 Hz) or ros2-bag "
-                   "(ros2_bag/: /camera/image_raw, 10 Hz)")
+                   "images (images/N.png), tum (a TUM RGB-D folder, 10 Hz: rgb/, rgb.txt and, for "
+                   "the route, depth/, depth.txt, groundtruth.txt, odometry.txt, camera.conf) or "
+                   "ros2-bag (ros2_bag/: /camera/image_raw, 10 Hz)")
       ->check(CLI::IsMember({"images", "tum", "ros2-bag"}))
       ->capture_default_str();
   CLI::Option* generate_places = AddPlaceOptions(*generate, &arguments->places);
