@@ -180,7 +180,8 @@ PYBIND11_MODULE(memloop, m) {
 
   py::class_<Options>(m, "Options", "Parameters by registry name: options['memory.stm_size']")
       .def(py::init(&OptionsFrom), py::arg("values") = py::dict(), py::arg("preset") = "default",
-           "The preset's values ('default', 'paper2011', 'hand-held' or 'day-night') with `values` "
+           "The preset's values ('default', 'paper2011', 'hand-held', 'day-night' or 'verified') "
+           "with `values` "
            "applied")
       .def("__getitem__", [](const Options& o, const std::string& k) { return Value(Find(k), o); })
       .def("__setitem__",

@@ -49,9 +49,33 @@ cv::Mat Night(const cv::Mat& day, int index) {
   return night;
 }
 
-cv::Mat Frame(const SyntheticRoute& route, int index) {
+// Another change of conditions than light, which the channel was not tuned on: snow. Brighter
+// and flatter, a cold colour cast, and the ground (the image's lower third) under a white cover
+// of its own texture: a whole-image description sees a new ground and the same skyline.
+cv::Mat Snow(const cv::Mat& day, int index) {
+  cv::Mat value;
+  day.convertTo(value, CV_32F, 1.0 / 255);
+  value = 0.45 + 0.55 * value;
+  cv::multiply(value, cv::Scalar(1.05, 0.97, 0.9), value);  // BGR: bluish
+  const int ground = day.rows * 2 / 3;
+  cv::Mat cover(day.rows - ground, day.cols, CV_32FC1);
+  cv::RNG rng(static_cast<uint64_t>(index) * 104729u + 3);
+  rng.fill(cover, cv::RNG::NORMAL, 0.92, 0.05);
+  cv::GaussianBlur(cover, cover, cv::Size(), 1.5);
+  cv::Mat cover3;
+  cv::cvtColor(cover, cover3, cv::COLOR_GRAY2BGR);
+  cover3.copyTo(value.rowRange(ground, day.rows));
+  cv::Mat snow;
+  value.convertTo(snow, CV_8U, 255);
+  return snow;
+}
+
+enum class Change { kNight, kSnow };  // what the frames from kNightFrom on are seen under
+
+cv::Mat Frame(const SyntheticRoute& route, int index, Change change = Change::kNight) {
   const cv::Mat image = route.Render(index);
-  return index < kNightFrom ? image : Night(image, index);
+  if (index < kNightFrom) return image;
+  return change == Change::kSnow ? Snow(image, index) : Night(image, index);
 }
 
 bool RevisitsTheDay(const SyntheticRoute& route, int index) {
@@ -95,10 +119,10 @@ struct RouteRun {
 };
 
 // `night_session`: the night is a new session of the day's map, as a robot maps it.
-RouteRun RunNightRoute(const Options& options, bool night_session) {
+RouteRun RunNightRoute(const Options& options, bool night_session, Change change = Change::kNight) {
   const SyntheticRoute route(Route());
   const testing::FramesRun frames = testing::RunFrames(
-      options, route.size(), [&](int index) { return Frame(route, index); },
+      options, route.size(), [&](int index) { return Frame(route, index, change); },
       night_session ? kNightFrom : -1);
   RouteRun run;
   for (const Result& result : frames.loop_closures) {
@@ -145,6 +169,20 @@ TEST(DayNightRouteTest, WithinOneSessionTheChannelStaysOut) {
                "every location: "
             << all_run.night_found << "\n";
   EXPECT_GE(all_run.night_found, 1);  // measured 3
+}
+
+// A change the channel was not tuned on: the laps after the first detour under snow, as a new
+// session. `--preset day-night` makes no false loop closure (measured: 35 of 50 snow images
+// closed on their day place). The words alone (the defaults) find 45 but close one snow image
+// (90) on the first lap's end (37), a false positive whose cause is still to be found.
+TEST(DayNightRouteTest, SnowIsAnotherChangeWithoutFalseLoopClosures) {
+  const RouteRun words = RunNightRoute(Options(), true, Change::kSnow);
+  const RouteRun channel = RunNightRoute(Options::DayNight(), true, Change::kSnow);
+  std::cout << "snow images closed on their day place, of 50: words " << words.night_found
+            << " (false " << words.score.false_positives << "), with the whole-image channel "
+            << channel.night_found << " (false " << channel.score.false_positives << ")\n";
+  EXPECT_EQ(channel.score.false_positives, 0);
+  EXPECT_GE(channel.night_found, 20);  // measured 35
 }
 
 }  // namespace

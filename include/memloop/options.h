@@ -357,8 +357,29 @@ struct FilterOptions {
 // Geometric verification of the highest hypothesis (epipolar_check.h): a loop closure is accepted
 // only when the words L_t shares with L_i fit one fundamental matrix with enough inliers.
 struct VerificationOptions {
+  // Epipolar verification (epipolar_check.h). With `--preset verified` (Options::Verified()): a
+  // hypothesis between T_verified and T_loop is a loop closure when the image's keypoints,
+  // matched to L_i's by descriptor, fit one fundamental matrix that chance would not give and
+  // the previous image agreed; over T_loop, appearance alone decides, as in the paper
+  // (docs/design.md, "Verification under T_loop"). The paper has none: min_inliers 0.
+  //
   // Inliers needed (0 = no verification, the paper).
   int min_inliers = 0;
+  // The a-contrario number of false alarms the geometry may have (epipolar_significance.h): under
+  // 1, fewer than one such fit is expected among random correspondences. 0 = not checked.
+  double max_false_alarms = 0;
+  // With loop_threshold: a hypothesis under T_loop is accepted only when the previous image's
+  // hypothesis lay within FilterOptions::neighbour_range links of it and was 1 = over
+  // T_verified, 2 = a loop closure or verified (0 = no check).
+  int previous_agrees = 0;
+  // T_verified: with min_inliers, a hypothesis whose value is over this but not over T_loop is a
+  // loop closure when verification passes, and one over T_loop is without it. 0: every eligible
+  // hypothesis is verified, and T_loop alone accepts.
+  double loop_threshold = 0;
+  // What the fundamental matrix is fitted to: "descriptors", the image's keypoints matched to
+  // the location's by descriptor (descriptor_correspondences.h), or "words", the words both hold
+  // once (fewer on a changed viewpoint).
+  std::string correspondences = "words";
   // RANSAC: largest distance, in pixels, of a point to its epipolar line to count as an inlier.
   double ransac_pixels = 3.0;
   // RANSAC: confidence that an all-inlier sample was drawn.
@@ -396,10 +417,13 @@ struct Options {
   // The defaults with the whole-image channel, for places revisited under another light (day,
   // then night: docs/design.md, "Whole-image channel").
   static Options DayNight();
+  // memloop's defaults with loop closures under T_loop that geometry confirms, for a camera that
+  // moves (docs/design.md, "Verification under T_loop").
+  static Options Verified();
 };
 
-// Names accepted by `--preset` and Preset(): "default", "paper2011", "hand-held" and
-// "day-night".
+// Names accepted by `--preset` and Preset(): "default", "paper2011", "hand-held", "day-night"
+// and "verified".
 Options Preset(const std::string& name);
 
 }  // namespace memloop

@@ -19,6 +19,7 @@ struct DescribedView {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
   std::vector<cv::Point3f> points;  // empty, or one per keypoint (z = 0: no depth there)
+  cv::Size image_size;              // its image's, when known
   int size() const { return static_cast<int>(keypoints.size()); }
 };
 

@@ -1,5 +1,6 @@
 #include "detector/loop_acceptance.h"
 
+#include <algorithm>
 #include <functional>
 
 #include "detector/epipolar_check.h"
@@ -24,7 +25,7 @@ void LoopAcceptance::Observe(const Likelihood& likelihood) {
 }
 
 void LoopAcceptance::Check(const Image& image, double& previous_value, Hypothesis& hypothesis,
-                           int* inliers) const {
+                           int* inliers) {
   if (options_.filter.cap_merged_images && image.merged) {
     CapRepeatedObservation(previous_value, options_.filter.loop_threshold, hypothesis);
   }
@@ -33,7 +34,12 @@ void LoopAcceptance::Check(const Image& image, double& previous_value, Hypothesi
   RequireLoopRatio(previous_value, options_.filter.loop_ratio, hypothesis);
   if (hypothesis.id != kNoLocation) previous_value = hypothesis.value;
   CheckLtmNeighbours(image.appearance, hypothesis);
-  Verify(image.view, hypothesis, inliers);
+  const bool over_verified =
+      hypothesis.eligible && hypothesis.value > options_.verification.loop_threshold;
+  const bool verified = Verify(image, hypothesis, inliers);
+  const bool agrees_next =
+      options_.verification.previous_agrees >= 2 ? hypothesis.accepted || verified : over_verified;
+  previous_agreeing_ = agrees_next ? hypothesis.id : kNoLocation;
 }
 
 // A loop closure says that the image matches L_i: with filter.require_support, the image's own
@@ -114,14 +120,50 @@ void LoopAcceptance::CheckLtmNeighbours(const Appearance* appearance,
       looks_like_image, hypothesis);
 }
 
-// Every eligible hypothesis is checked, accepted or not, so that precision-recall curves sweep
-// T_loop over what verification lets through.
-void LoopAcceptance::Verify(const Signature& view, Hypothesis& hypothesis, int* inliers) const {
-  if (options_.verification.min_inliers == 0 || !hypothesis.eligible) return;
+// With verify.loop_threshold 0, every eligible hypothesis is checked, accepted or not, so that
+// precision-recall curves sweep T_loop over what verification lets through; with T_verified,
+// those between it and T_loop, which verification accepts. With verify.correspondences=descriptors
+// the image's own keypoints (not an older image's after Rehearsal, nor a rolled view) are matched
+// to L_i's by descriptor: on a changed viewpoint they find the correspondences shared word ids
+// miss.
+bool LoopAcceptance::Verify(const Image& image, Hypothesis& hypothesis, int* inliers) const {
+  const VerificationOptions& verification = options_.verification;
+  if (verification.min_inliers == 0 || !hypothesis.eligible) return false;
+  const bool two_thresholds = verification.loop_threshold > 0;
+  if (two_thresholds && (hypothesis.value <= verification.loop_threshold ||
+                         hypothesis.value > options_.filter.loop_threshold)) {
+    return false;  // below T_verified, nothing to accept; over T_loop, appearance alone accepts
+  }
+  const Signature& z_i = memory_.at(hypothesis.id).signature;
   const EpipolarCheck check =
-      CheckEpipolarGeometry(view, memory_.at(hypothesis.id).signature, options_.verification);
+      verification.correspondences == "descriptors"
+          ? CheckEpipolarGeometry(
+                MatchDescriptors(image.keypoints, WordDescribedView(z_i, memory_.dictionary())),
+                verification, image.keypoints.image_size)
+          : CheckEpipolarGeometry(image.view, z_i, verification, image.keypoints.image_size);
   *inliers = check.inliers;
-  if (!check.passed) hypothesis.Refuse();
+  if (two_thresholds) {
+    // The value stays eligible: the precision-recall sweep is T_loop's, as in the paper.
+    hypothesis.accepted = check.passed && PreviousAgrees(hypothesis);
+  } else if (!check.passed) {
+    hypothesis.Refuse();
+  }
+  return check.passed;
+}
+
+// verify.previous_agrees: the previous image's hypothesis lay near L_i (and was over T_verified,
+// or with 2 a loop closure or verified). A corridor seen again further on satisfies one epipolar
+// geometry (its doors repeat along the epipole's lines), as does one sign on two buildings; the
+// robot's previous image rarely confirmed the same look-alike.
+bool LoopAcceptance::PreviousAgrees(const Hypothesis& hypothesis) const {
+  if (!options_.verification.previous_agrees) return true;
+  if (previous_agreeing_ == kNoLocation || !memory_.Contains(previous_agreeing_)) {
+    return false;
+  }
+  const Neighbourhood near =
+      memory_.WmNeighbourhood(hypothesis.id, options_.filter.neighbour_range);
+  return std::any_of(near.begin(), near.end(),
+                     [&](const auto& entry) { return entry.first == previous_agreeing_; });
 }
 
 }  // namespace memloop

@@ -212,8 +212,16 @@ std::vector<Parameter> MakeRegistry() {
         .Help("With features.whole_image: the WM locations the channel weighs, those first seen in an earlier session of the map (run --new-session; within a session the light is the same, and the words judge) or all"),
     Param("filter.whole_image_words_first", MEMLOOP_FIELD(filter.whole_image_words_first)).Range(0, 1000)
         .Symbol("eq. 3").Help("With features.whole_image: the channel stays out of an image whose words give a location in its scope an eq. 3 value of at least this: the words recognize the place (0 = the channel weighs every image)"),
-    Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("words").Range(0, 100000)
-        .Help("Epipolar verification: shared words fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
+    Param("verify.min_inliers", MEMLOOP_FIELD(verification.min_inliers)).Unit("matches").Range(0, 100000)
+        .Help("Epipolar verification: correspondences fitting one fundamental matrix needed to accept a loop closure (0 = off, the paper)"),
+    Param("verify.loop_threshold", MEMLOOP_FIELD(verification.loop_threshold)).Range(0, 1)
+        .Symbol("T_verified").Help("With verify.min_inliers: a hypothesis over this but not over T_loop is a loop closure when epipolar verification passes; one over T_loop is without verification (0 = every hypothesis is verified, T_loop alone accepts)"),
+    Param("verify.max_false_alarms", MEMLOOP_FIELD(verification.max_false_alarms)).Range(0, 1e9)
+        .Symbol("NFA").Help("With verify.min_inliers: the most false alarms the epipolar geometry may have, the expected number of fits as good among random correspondences in images of this size (Moisan & Stival 2004; 0 = not checked)"),
+    Param("verify.previous_agrees", MEMLOOP_FIELD(verification.previous_agrees)).Range(0, 2)
+        .Help("With verify.loop_threshold: a hypothesis under T_loop is accepted only when the previous image's lay within filter.neighbour_range links of it and was 1 = over T_verified, 2 = a loop closure or verified (geometry alone cannot tell a corridor's repeated doors apart; 0 = no check)"),
+    Param("verify.correspondences", MEMLOOP_FIELD(verification.correspondences)).Choices({"descriptors", "words"})
+        .Help("Epipolar verification's correspondences: the image's keypoints matched to the location's by descriptor (mutual nearest neighbours, ratio 0.8), or the words both hold once"),
     Param("verify.ransac_pixels", MEMLOOP_FIELD(verification.ransac_pixels)).Unit("pixels").AboveRange(0, 1000)
         .Help("Epipolar verification: RANSAC inlier distance to the epipolar line"),
     Param("verify.ransac_confidence", MEMLOOP_FIELD(verification.ransac_confidence)).AboveRange(0, 1)
@@ -446,7 +454,8 @@ std::string ParametersMarkdown() {
          "docs/design.md lists each departure; `--preset hand-held` is for a camera that rolls "
          "about its axis (docs/design.md, \"Camera roll\"), `--preset day-night` for places "
          "revisited under another light, in a later session of the map (docs/design.md, "
-         "\"Whole-image channel\"). Parameters "
+         "\"Whole-image channel\"), `--preset verified` for loop closures under T_loop that "
+         "geometry confirms (docs/design.md, \"Verification under T_loop\"). Parameters "
          "marked "
          "*map* define what a word is and how words are found: a map keeps them, and "
          "`memloop run --resume` refuses other values.\n\n"

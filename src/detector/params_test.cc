@@ -86,6 +86,15 @@ TEST(ParamsTest, DefaultsDepartFromThePaperOnlyWhereDocumented) {
 
 TEST(ParamsTest, PresetsByName) {
   EXPECT_EQ(Preset("default").memory.stm_size, Options().memory.stm_size);
+  // verified: the defaults with verification under T_loop, all valid; the defaults keep it off.
+  const Options verified = Preset("verified");
+  EXPECT_EQ(verified.verification.loop_threshold, 0.05);
+  EXPECT_EQ(verified.verification.correspondences, "descriptors");
+  EXPECT_EQ(verified.filter.loop_threshold, Options().filter.loop_threshold);
+  EXPECT_EQ(Options().verification.min_inliers, 0);
+  for (const Parameter& parameter : Parameters()) {
+    EXPECT_TRUE(parameter.Check(verified).empty()) << parameter.key;
+  }
   EXPECT_EQ(Preset("paper2011").filter.hypothesis_value, "best_neighbours");
   EXPECT_THROW(Preset("paper2013"), ParameterError);
   // hand-held: the defaults with the roll compensated and views rolled apart refused, all valid.

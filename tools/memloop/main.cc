@@ -35,8 +35,9 @@ CLI::Option* AddPresetOption(CLI::App& command, std::string* name) {
   return command.add_option(
       "--preset", *name,
       "Starting values: default (memloop's measured best), paper2011 (the paper's mechanisms as "
-      "written), hand-held (a camera that rolls about its axis) or day-night (places revisited "
-      "under another light, in a --new-session of the map); --set applies on top");
+      "written), hand-held (a camera that rolls about its axis), day-night (places revisited "
+      "under another light, in a --new-session of the map) or verified (loop closures under "
+      "T_loop that geometry confirms, for a camera that moves); --set applies on top");
 }
 
 CLI::Option* AddRealtimePriorityOption(CLI::App& command, int* priority) {
