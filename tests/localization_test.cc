@@ -106,6 +106,24 @@ TEST_F(LocalizationTest, SecondLapIsLocalizedAndTheMapFileIsUnchanged) {
   EXPECT_EQ(MapBytes(Map()), before);
 }
 
+// Verification by descriptor (`--preset verified`) matches the localized image's own keypoints:
+// with every eligible hypothesis between T_verified and T_loop (0.001 and 0.99 here), lap 2's
+// images are checked against lap 1's places and the right ones fit one geometry.
+TEST_F(LocalizationTest, VerificationUsesTheLocalizedImagesKeypoints) {
+  Options options = Options::Verified();
+  options.memory.time_limit_ms = 0;
+  options.memory.max_wm_locations = kBudget;
+  options.memory.localization = 1;
+  options.verification.loop_threshold = 0.001;
+  options.filter.loop_threshold = 0.99;
+  Detector localizing(options, Map());
+  int verified = 0;
+  for (const Result& result : ProcessImages(localizing, *route_, kMapEnd, kLapTwoEnd)) {
+    verified += result.hypothesis_inliers >= 20 ? 1 : 0;
+  }
+  EXPECT_GE(verified, 10) << "of 40 lap-2 images";
+}
+
 // Nothing localization does stays in the map: localizing twice gives the same answers, and the
 // map then resumes exactly as a copy nobody localized against.
 TEST_F(LocalizationTest, LeavesNothingBehind) {

@@ -288,7 +288,15 @@ class Detector::Impl {
     }
     signature.whole_image = WholeImageOf(gray);
     rolled_view_.Observe(features, memory_.dictionary());
+    KeepImageView(std::move(features), gray.size());
     return signature;
+  }
+
+  // The image's own keypoints: a loop closure's pose (camera.fx..cy), verification by descriptor.
+  void KeepImageView(Features features, const cv::Size& size) {
+    if (options_.camera.fx > 0 || VerifiesByDescriptors(options_.verification))
+      image_view_ = ImageView(std::move(features), depth_, IntrinsicsOf(options_.camera));
+    image_view_.image_size = size;
   }
 
   std::vector<uint8_t> WholeImageOf(const cv::Mat& gray) const {
@@ -307,9 +315,7 @@ class Detector::Impl {
     signature.image = result.image_index;
     signature.whole_image = WholeImageOf(gray);
     Appearance appearance = Describe(signature, features.descriptors, first_new_word);
-    if (options_.camera.fx > 0 || VerifiesByDescriptors(options_.verification))
-      image_view_ = ImageView(std::move(features), depth_, IntrinsicsOf(options_.camera));
-    image_view_.image_size = gray.size();
+    KeepImageView(std::move(features), gray.size());
     const Location& location =
         memory_.AddToStm(std::move(signature), result.image_index, counters_.newest_location);
     counters_.newest_location = location.id;
@@ -387,10 +393,10 @@ class Detector::Impl {
                                              neighbourhoods, selection_options_);
     hypothesis.filter_id = hypothesis.id;
     const Signature& view = rolled_view_.ViewOf(hypothesis.id, z_t);  // what matched L_i
-    acceptance_.Check({z_t, view, result.rehearsal_merged_id != kNoLocation,
-                       image_words_ ? &*image_words_ : nullptr, likelihood, appearance,
-                       image_view_},
-                      counters_.previous_hypothesis_value, hypothesis, &result.hypothesis_inliers);
+    acceptance_.Check(
+        {z_t, view, result.rehearsal_merged_id != kNoLocation,
+         image_words_ ? &*image_words_ : nullptr, likelihood, appearance, image_view_},
+        counters_.previous_hypothesis_value, hypothesis, &result.hypothesis_inliers);
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
