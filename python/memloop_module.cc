@@ -238,6 +238,7 @@ PYBIND11_MODULE(memloop, m) {
       .def_readonly("rehearsal_merged_id", &Result::rehearsal_merged_id)
       .def_readonly("feature_count", &Result::feature_count)
       .def_readonly("features_skipped", &Result::features_skipped)
+      .def_readonly("time_decided", &Result::time_decided)
       .def_readonly("word_count", &Result::word_count)
       .def_readonly("hypothesis_id", &Result::hypothesis_id)
       .def_readonly("hypothesis_value", &Result::hypothesis_value)

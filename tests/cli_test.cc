@@ -431,8 +431,9 @@ TEST_F(CliTest, EvalReproducesTheDemosOwnScore) {
   const auto counts = demo_line.substr(demo_line.find('(') + 1);
   const int true_positives = std::stoi(counts);
   const int detections = std::stoi(counts.substr(counts.find('/') + 1));
-  EXPECT_TRUE(Contains(eval.output, "loop closures accepted: " + std::to_string(detections) +
-                                        " (true " + std::to_string(true_positives) + ", false " +
+  EXPECT_TRUE(Contains(eval.output, "the run accepted, at its T_loop: " +
+                                        std::to_string(detections) + " loop closures (true " +
+                                        std::to_string(true_positives) + ", false " +
                                         std::to_string(detections - true_positives)))
       << eval.output;
   EXPECT_TRUE(Contains(eval.output, demo_line.substr(0, demo_line.find(" (")))) << eval.output;

@@ -23,7 +23,7 @@ std::string Replaced(std::string text, const std::string& from, const std::strin
 }
 
 // The commands of the first ```sh block after `heading`: continuation lines joined, comments
-// (from " #") cut.
+// (lines from "#", the rest of a line from "  #") cut.
 std::vector<std::string> QuickStartCommands(const std::string& readme, const std::string& heading) {
   std::istringstream in(readme.substr(readme.find(heading)));
   std::vector<std::string> commands;
@@ -32,6 +32,7 @@ std::vector<std::string> QuickStartCommands(const std::string& readme, const std
   }
   std::string command;
   while (std::getline(in, line) && line != "```") {
+    if (line.rfind("#", 0) == 0) continue;  // a comment line
     const size_t comment = line.find("  #");
     if (comment != std::string::npos) line = line.substr(0, comment);
     while (!line.empty() && line.back() == ' ') line.pop_back();

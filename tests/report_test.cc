@@ -26,7 +26,8 @@ class ReportTest : public testing::RouteImagesTest<ReportTest> {
     const std::string browser =
         "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic "
         "--no-first-run --disable-background-networking --disable-component-update "
-        "--disable-sync --hide-scrollbars --virtual-time-budget=5000 --user-data-dir=" +
+        "--disable-sync --hide-scrollbars --virtual-time-budget=5000 --window-size=1200,900 "
+        "--user-data-dir=" +
         dir_.File("profile");
     const std::string dom = dir_.File("dom.html");
     EXPECT_EQ(std::system((browser + " --dump-dom file://" + page + " > " + dom + " 2> " +
@@ -47,35 +48,87 @@ void ExpectSelfContained(const std::string& html) {
   EXPECT_EQ(std::count(html.begin(), html.end(), '\0'), 0);
 }
 
-// Every figure draws, the page logs no error, every thumbnail of the loop closures decodes, and
-// a screenshot is kept in build/test-artifacts/report.png. Without ground truth, the run's own
-// figures draw.
+// Every figure draws, the page logs no error, every thumbnail decodes, and a screenshot is kept in
+// build/test-artifacts/report.png. The first screen (1200x900) shows the summary, with the run's
+// own figure first, and the first image pair; the misses are listed with their true match; every
+// point of the ground-truth figure that links leads to a row of its pair. Without ground truth,
+// the run's own figures draw.
 TEST_F(ReportTest, RendersInABrowserWithEachLoopClosuresImages) {
   if (!HasBrowser()) GTEST_SKIP() << "chromium is not installed (make test installs it)";
   const std::string csv = dir_.File("run.csv");
-  ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + csv).exit_code, 0);
-  int loop_closures = 0;
-  for (const RunRow& row : ReadRunCsv(csv)) loop_closures += !row.matched_images.empty();
+  const std::string map = dir_.File("map.db");
+  ASSERT_EQ(Memloop("run " + Images() +
+                    " --set memory.time_limit_ms=0 --set memory.stm_size=12 "
+                    "--db " +
+                    map + " --out " + csv)
+                .exit_code,
+            0);
+  const std::vector<RunRow> rows = ReadRunCsv(csv);
+  std::vector<std::string> names;
+  for (const RunRow& row : rows) names.push_back(row.name);
+  const GroundTruth truth = GroundTruth::Load(folder_->File("ground_truth_pairs.csv"),
+                                              GroundTruthFormat::kAuto, names, rows.size());
+  int loop_closures = 0, misses = 0;
+  for (const RunRow& row : rows) {
+    loop_closures += !row.matched_images.empty();
+    misses += row.matched_images.empty() && truth.HasEarlierMatch(row.image);
+  }
   ASSERT_GT(loop_closures, 20);
+  ASSERT_GT(misses, 0);
   const std::string page = dir_.File("report.html");
   const Outcome report =
-      Memloop("report " + csv + " " + folder_->File("ground_truth_pairs.csv") +
+      Memloop("report " + csv + " " + folder_->path().string() + " --map " + map +
               " --time-limit-ms 700 --images " + Images() + " --max-views 20 --out " + page);
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const std::string html = ReadFile(page);
   ExpectSelfContained(html);
-  EXPECT_TRUE(Contains(html, "20 of the " + std::to_string(loop_closures) + " loop closures"));
+  EXPECT_TRUE(Contains(html, std::to_string(loop_closures) + " loop closures accepted, " +
+                                 std::to_string(misses) + " images with a true match missed"));
+  EXPECT_TRUE(Contains(html, "; 20 with their images"));
+  EXPECT_TRUE(Contains(html, "memory.stm_size=12"));  // the map's parameters, the changed one named
+  EXPECT_TRUE(Contains(html, "<td>700 ms</td>"));
+  EXPECT_LT(html.find("the run accepted, at its T<sub>loop</sub>"), html.find("best threshold"));
+  // The first row is the first miss (no false positive here), by its file name and true match.
+  const size_t first_row = html.find("<tr id=\"pair-");
+  ASSERT_NE(first_row, std::string::npos);
+  const std::string row = html.substr(first_row, html.find("</td>", first_row) - first_row);
+  EXPECT_TRUE(Contains(row, "class=\"missed\"")) << row;
+  EXPECT_TRUE(Contains(row, ".png</b> <span class=\"verdict\">missed</span>: highest hypothesis"))
+      << row;
+  EXPECT_TRUE(Contains(row, "; true match ")) << row;
+  // Each link of the figure has its row.
+  int links = 0;
+  for (size_t at = html.find("<a href=\"#pair-"); at != std::string::npos;
+       at = html.find("<a href=\"#pair-", at + 1), ++links) {
+    const size_t id = at + 10;
+    const std::string target = html.substr(id, html.find('"', id) - id);
+    EXPECT_TRUE(Contains(html, "<tr id=\"" + target + "\"")) << target;
+  }
+  EXPECT_EQ(links, loop_closures + misses);
+
   std::string log;
   const std::string dom = BrowserDom(page, &log);
-  EXPECT_TRUE(Contains(dom, "data-rendered=\"4\"")) << dom.substr(0, 600);
-  EXPECT_TRUE(Contains(dom, "data-images=\"40\"")) << dom.substr(0, 600);
-  EXPECT_TRUE(Contains(dom, "data-errors=\"\"")) << dom.substr(0, 600);
+  const size_t body = dom.find("<body");
+  const std::string body_tag = dom.substr(body, dom.find('>', body) - body);
+  EXPECT_TRUE(Contains(body_tag, "data-rendered=\"4\"")) << body_tag;
+  int thumbnails = 0;
+  for (size_t at = html.find("<img "); at != std::string::npos; at = html.find("<img ", at + 1)) {
+    ++thumbnails;
+  }
+  EXPECT_GE(thumbnails, 40);
+  EXPECT_TRUE(Contains(body_tag, "data-images=\"" + std::to_string(thumbnails) + "\"")) << body_tag;
+  EXPECT_TRUE(Contains(body_tag, "data-errors=\"\"")) << body_tag;
+  const size_t bottom_at = body_tag.find("data-first-pair-bottom=\"");
+  ASSERT_NE(bottom_at, std::string::npos) << body_tag;
+  const int first_pair_bottom = std::stoi(body_tag.substr(bottom_at + 24));
+  EXPECT_GT(first_pair_bottom, 0) << body_tag;
+  EXPECT_LE(first_pair_bottom, 900) << "the first image pair is below the first screen";
   EXPECT_FALSE(Contains(log, "Uncaught")) << log;
   const std::string artifacts = std::string(MEMLOOP_BUILD_DIR) + "/test-artifacts";
   std::filesystem::create_directories(artifacts);
   std::system(("timeout 120 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
                "--user-data-dir=" +
-               dir_.File("profile") + " --window-size=1000,3400 --screenshot=" + artifacts +
+               dir_.File("profile") + " --window-size=1200,900 --screenshot=" + artifacts +
                "/report.png file://" + page + " > /dev/null 2>&1")
                   .c_str());
   EXPECT_TRUE(std::filesystem::exists(artifacts + "/report.png"));
@@ -148,7 +201,7 @@ TEST_F(ReportTest, ThumbnailsOfASampledVideoShowTheFramesTheRunRead) {
         << "frame " << frame;
     ++checked;
   }
-  EXPECT_EQ(checked, 12);  // 6 loop closures, two images each
+  EXPECT_EQ(checked, 12);  // 6 loop closures, two images each (no ground truth: no true match)
 }
 
 // --images must be the run's sequence: a folder without the run's files is named.

@@ -75,10 +75,20 @@ struct RunEvaluation {
   // The detector's thread on the CPU: the median over iterations of cpu_ms / iteration_ms; -1
   // when the CSV does not say (runs before the column, or a system without a thread clock).
   double median_cpu_share = -1;
+  // Iterations in which the time limit changed something (RunRow::time_decided), and the first;
+  // a run with none gives the same rows on any machine and under any load.
+  int time_decided_iterations = 0;
+  ImageIndex first_time_decided = kNoImage;
+  std::string first_time_decided_what;
   double FractionOverTimeLimit() const {
     return images == 0 ? 0.0 : double(iterations_over_time_limit) / images;
   }
 };
+
+// One line on whether the time limit changed the run's results (RunEvaluation::
+// time_decided_iterations): nothing, so the run repeats exactly; or in how many iterations, the
+// first and what.
+std::string TimeDecidedLine(const RunEvaluation& evaluation);
 
 // The detector's thread's CPU time over an iteration's wall time (StageTimes::cpu_ms / total_ms)
 // is near 1 when the thread had a core; an iteration that took longer while its thread ran less

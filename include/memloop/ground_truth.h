@@ -28,6 +28,11 @@ class GroundTruth {
   // unknown image name, index out of range, no matrix in a .mat file.
   static GroundTruth Load(const std::string& path, GroundTruthFormat format,
                           const std::vector<std::string>& image_names, int image_count);
+  // A data set folder as memloop's data sets come: ground_truth.bmp (or .png: its ignored band
+  // included), else ground_truth_pairs.csv with ground_truth_ignore.csv when there is one, else
+  // ground_truth.mat. Returns the files to read, the ignored pairs' CSV second when there is one.
+  // Throws InputError naming the folder when it holds none of them.
+  static std::vector<std::string> DatasetFiles(const std::string& folder);
   // "auto", "mat", "image", "pairs", "matrix"; throws InputError otherwise.
   static GroundTruthFormat ParseFormat(const std::string& name);
   // `labels`: square CV_8U of Label values, made symmetric here.
@@ -45,6 +50,10 @@ class GroundTruth {
   // tum_fr1_rpy, whose ignored pairs include neighbouring frames, making those loops would count
   // nearly every image as one with a loop), so the images with a loop are the same.
   GroundTruth IgnoredAsLoops() const;
+  // The pairs listed in `path` (a CSV of pairs, as for Load) become ignored, neither true nor
+  // false, unless they are loops: what a CSV of loop pairs cannot say by itself.
+  GroundTruth WithIgnoredPairs(const std::string& path,
+                               const std::vector<std::string>& image_names) const;
 
  private:
   cv::Mat labels_;

@@ -101,6 +101,17 @@ struct Result {
   int dictionary_size = 0;  // words
   StageTimes times;
 
+  // What the time limit changed in this iteration, '|'-separated (empty: nothing; always empty
+  // with T_time off): "transfer" (the iteration reached the time target and moved locations to
+  // LTM), "features_skipped", "fewer_checks" (the features were searched visiting fewer leaves),
+  // "retrieval_deferred" (a retrieval waited for time or for its rows), "retrieval_staged" (a
+  // retrieval started earlier ended here), "rebuild_late" (the dictionary's forest, rebuilt in
+  // the background, was not ready when due and not waited for). Only these depend on the
+  // machine's speed: a run whose rows all have it empty repeats exactly; once one does not, the
+  // rows after it may differ from another run's.
+  std::string time_decided;
+  void AddTimeDecision(const std::string& what);
+
   bool HasLoopClosure() const { return loop_closure_id != kNoLocation; }
   // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62"; in
   // localization "image 41: localized at location 3 (image 2), p=0.62".

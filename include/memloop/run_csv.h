@@ -60,6 +60,7 @@ struct RunRow {
   int dictionary_size = 0;
   double timestamp = kNoTimestamp;  // seconds; unknown in CSVs without it
   int session = 0;
+  std::string time_decided;  // Result::time_decided; empty in CSVs without it
 };
 
 // Reads a CSV written by RunCsvWriter. Throws InputError naming the file and, for a malformed

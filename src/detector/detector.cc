@@ -174,6 +174,7 @@ class Detector::Impl {
 
   Result StartIteration(const ImageInfo& info) {
     iteration_ = Stopwatch();
+    late_steps_at_start_ = memory_.dictionary().late_steps();
     // Waits and reads between images are not this iteration's; the checkpoint's below are (its
     // wait for the writer is ltm_wait_ms, its CPU in cpu_ms, as its time is in iteration_ms).
     ltm_.TakeWriterWaitMs();
@@ -511,6 +512,8 @@ class Detector::Impl {
     result.transferred_ids =
         Transfer(trigger, retrieved_immune_.InWorkingMemory(memory_), KeptLast(hypothesis), memory_,
                  editor_, DeadlineOf(iteration, &transfer_cost_));
+    if (trigger.time_exceeded && !result.transferred_ids.empty())
+      result.AddTimeDecision("transfer");
     transfer_step_cost_.Record(stopwatch.ElapsedMs());
   }
 
@@ -543,6 +546,11 @@ class Detector::Impl {
     result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;
     result.times.total_ms = iteration.ElapsedMs();
     signature_budget_.RecordIteration(result.times.total_ms);
+    if (result.features_skipped > 0) result.AddTimeDecision("features_skipped");
+    if (signature_budget_.searched_coarsely()) result.AddTimeDecision("fewer_checks");
+    if (memory_.dictionary().late_steps() != late_steps_at_start_) {
+      result.AddTimeDecision("rebuild_late");
+    }
   }
 
   Options options_;
@@ -550,6 +558,7 @@ class Detector::Impl {
   FilterOptions selection_options_;  // options_.filter with T_minHyp within the WM budget
   int skipped_checkpoints_ = 0;
   double iteration_cpu_start_ms_ = 0;  // ThreadCpuMs() at the start of the iteration
+  int late_steps_at_start_ = 0;        // the dictionary's late_steps() then
   Stopwatch iteration_;                // since the start of the current image
   bool checkpoint_due_ = false;        // the last image's checkpoint, written by the next
   StepCost transfer_cost_;             // one transfer's

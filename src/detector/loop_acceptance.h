@@ -45,8 +45,9 @@ class LoopAcceptance {
   // min_shared_words, support_from_image, which may name a WM location linked to L_i instead of
   // L_i, the whole-image channel's agreement),
   // verify.max_roll_degrees, filter.loop_ratio, filter.ltm_neighbour_check, epipolar
-  // verification (with T_verified, verify.previous_agrees). `previous_value`: the previous image's value as compared with T_loop, updated
-  // to this image's. `inliers` receives the epipolar inliers when verification ran.
+  // verification (with T_verified, verify.previous_agrees). `previous_value`: the previous image's
+  // value as compared with T_loop, updated to this image's. `inliers` receives the epipolar inliers
+  // when verification ran.
   void Check(const Image& image, double& previous_value, Hypothesis& hypothesis, int* inliers);
 
  private:

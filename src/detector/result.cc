@@ -4,6 +4,11 @@
 
 namespace memloop {
 
+void Result::AddTimeDecision(const std::string& what) {
+  if (("|" + time_decided + "|").find("|" + what + "|") != std::string::npos) return;
+  time_decided += (time_decided.empty() ? "" : "|") + what;
+}
+
 std::string Result::Brief() const {
   if (!processed) return "Detector::Process was not called.";
   char text[256];

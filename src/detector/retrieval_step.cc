@@ -68,6 +68,10 @@ std::vector<LocationId> RetrievalStep::Retrieve(
   const RetrievalOutcome carried = ContinueStaged(options_.max_retrieved, memory_, ltm_, time);
   retrieved.insert(retrieved.end(), carried.retrieved.begin(), carried.retrieved.end());
   if (result.retrievals_deferred > 0) location_cost_.Deferred();
+  if (result.retrievals_deferred > 0 || result.retrievals_unread > 0) {
+    result.AddTimeDecision("retrieval_deferred");
+  }
+  if (!carried.retrieved.empty()) result.AddTimeDecision("retrieval_staged");
   return retrieved;
 }
 

@@ -102,6 +102,7 @@ void SignatureBudget::Finish(double start_ms, double search_ms, size_t quantized
   *skipped = static_cast<int>(features.keypoints.size() - quantized);
   KeepFirstFeatures(features, quantized);
   searched_at_ms_ = start_ms + search_ms;
+  last_checks_ = checks;
 }
 
 void SignatureBudget::QuantizationOver() {

@@ -50,6 +50,8 @@ class SignatureBudget {
   void QuantizationOver();
 
   bool enabled() const { return target_ms_ > 0; }
+  // The last image's features were searched visiting fewer leaves than kd_checks (Checks).
+  bool searched_coarsely() const { return last_checks_ > 0; }
   // The gate of an image's quantization (none when disabled), `features` of them, on the
   // iteration's clock; made when the search starts. A chunk is expected to take the larger of
   // ChunkMs() and what this search's chunks have taken so far.
@@ -111,9 +113,10 @@ class SignatureBudget {
   double min_share_ = 1;
   int search_threads_ = 1;
   int kd_checks_ = 0;
-  int min_checks_ = 0;  // 0: never fewer leaves
-  StepCost row_;        // one feature's quantization on one thread
-  StepCost after_;      // the steps after the quantization, up to retrieval
+  int min_checks_ = 0;   // 0: never fewer leaves
+  int last_checks_ = 0;  // the last search's (Checks)
+  StepCost row_;         // one feature's quantization on one thread
+  StepCost after_;       // the steps after the quantization, up to retrieval
 };
 
 }  // namespace memloop

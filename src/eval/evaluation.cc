@@ -95,6 +95,10 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     evaluation.max_wm_size = std::max(evaluation.max_wm_size, row.wm_size);
     evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
     if (!row.matched_images.empty()) accepted.push_back({row.image, row.matched_images});
+    if (!row.time_decided.empty() && evaluation.time_decided_iterations++ == 0) {
+      evaluation.first_time_decided = row.image;
+      evaluation.first_time_decided_what = row.time_decided;
+    }
     if (row.hypothesis_id != kNoLocation && row.hypothesis_eligible) {
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
@@ -120,6 +124,18 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     }
   }
   return evaluation;
+}
+
+std::string TimeDecidedLine(const RunEvaluation& e) {
+  if (e.time_decided_iterations == 0) {
+    return "time decided nothing: the same images give the same rows on any machine and under any "
+           "load";
+  }
+  return "time decided something in " + std::to_string(e.time_decided_iterations) +
+         " iterations (the first: image " + std::to_string(e.first_time_decided) + ", " +
+         e.first_time_decided_what +
+         "): from there, a run on another machine or under another load may differ (CSV column "
+         "time_decided)";
 }
 
 }  // namespace memloop

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -129,6 +130,27 @@ cv::Mat LoadPairs(const std::string& path, const std::vector<std::string>& image
 
 }  // namespace
 
+std::vector<std::string> GroundTruth::DatasetFiles(const std::string& folder) {
+  namespace fs = std::filesystem;
+  const auto file = [&](const char* name) { return (fs::path(folder) / name).string(); };
+  const auto exists = [](const std::string& path) {
+    std::error_code error;
+    return fs::is_regular_file(path, error);
+  };
+  for (const char* image : {"ground_truth.bmp", "ground_truth.png"}) {
+    if (exists(file(image))) return {file(image)};
+  }
+  if (exists(file("ground_truth_pairs.csv"))) {
+    std::vector<std::string> files = {file("ground_truth_pairs.csv")};
+    if (exists(file("ground_truth_ignore.csv"))) files.push_back(file("ground_truth_ignore.csv"));
+    return files;
+  }
+  if (exists(file("ground_truth.mat"))) return {file("ground_truth.mat")};
+  throw InputError(folder,
+                   "no ground truth in this folder: expected ground_truth.bmp, "
+                   "ground_truth_pairs.csv (with ground_truth_ignore.csv) or ground_truth.mat");
+}
+
 GroundTruthFormat GroundTruth::ParseFormat(const std::string& name) {
   if (name == "auto") return GroundTruthFormat::kAuto;
   if (name == "mat") return GroundTruthFormat::kMat;
@@ -205,6 +227,14 @@ GroundTruth GroundTruth::IgnoredAsLoops() const {
       labels.at<unsigned char>(query, match) = labels.at<unsigned char>(match, query) = kLoop;
     }
   }
+  return GroundTruth(labels);
+}
+
+GroundTruth GroundTruth::WithIgnoredPairs(const std::string& path,
+                                          const std::vector<std::string>& image_names) const {
+  const cv::Mat listed = LoadPairs(path, image_names, size());
+  cv::Mat labels = labels_.clone();
+  labels.setTo(kIgnored, (listed == kLoop) & (labels_ == kNone));
   return GroundTruth(labels);
 }
 

@@ -69,6 +69,53 @@ TEST_F(GroundTruthTest, PairsByNameOrIndex) {
       false);
 }
 
+// A CSV of loop pairs says nothing of the pairs to ignore; a second CSV does. A listed pair that
+// is a loop stays one, either way round; a pair listed in neither stays none.
+TEST_F(GroundTruthTest, IgnoredPairsFromASecondCsv) {
+  const GroundTruth pairs =
+      GroundTruth::Load(Write("pairs.csv", "query,match\nc.jpg,a.jpg\nd.jpg,b.jpg\n"),
+                        GroundTruthFormat::kAuto, names_, 4);
+  ExpectExample(pairs, false);
+  const GroundTruth ignored = pairs.WithIgnoredPairs(
+      Write("ignore.csv", "query,match\nd.jpg,a.jpg\nb.jpg,d.jpg\n"), names_);
+  ExpectExample(ignored, true);
+  EXPECT_EQ(ignored.At(0, 3), GroundTruth::kIgnored);
+  EXPECT_TRUE(ignored.IsLoop(3, 1));  // listed too, still a loop
+  EXPECT_EQ(ignored.At(2, 1), GroundTruth::kNone);
+  try {
+    pairs.WithIgnoredPairs(Write("bad_ignore.csv", "query,match\nz.jpg,a.jpg\n"), names_);
+    FAIL() << "accepted an unknown image";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.path(), dir_.File("bad_ignore.csv"));
+  }
+}
+
+// A data set folder: the image first (its ignored band is in it), then the pairs with their
+// ignored pairs, then a .mat file; a folder with none of them is refused, naming the folder.
+TEST_F(GroundTruthTest, DatasetFolderPicksItsGroundTruth) {
+  const std::filesystem::path folder = dir_.path() / "set";
+  std::filesystem::create_directories(folder);
+  const auto touch = [&](const char* name) {
+    std::ofstream(folder / name) << "x";
+    return (folder / name).string();
+  };
+  try {
+    GroundTruth::DatasetFiles(folder.string());
+    FAIL() << "an empty folder gave ground truth";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.path(), folder.string());
+    EXPECT_NE(std::string(error.what()).find("no ground truth in this folder"), std::string::npos);
+  }
+  const std::string mat = touch("ground_truth.mat");
+  EXPECT_EQ(GroundTruth::DatasetFiles(folder.string()), std::vector<std::string>{mat});
+  const std::string pairs = touch("ground_truth_pairs.csv");
+  EXPECT_EQ(GroundTruth::DatasetFiles(folder.string()), std::vector<std::string>{pairs});
+  const std::string ignore = touch("ground_truth_ignore.csv");
+  EXPECT_EQ(GroundTruth::DatasetFiles(folder.string()), (std::vector<std::string>{pairs, ignore}));
+  const std::string image = touch("ground_truth.bmp");
+  EXPECT_EQ(GroundTruth::DatasetFiles(folder.string()), std::vector<std::string>{image});
+}
+
 TEST_F(GroundTruthTest, TextMatrix) {
   ExpectExample(GroundTruth::Load(Write("gt.txt", "0 0 0 0\n0 0 0 0\n1 0 0 0\n0.5 1 0 0\n"),
                                   GroundTruthFormat::kAuto, names_, 4),

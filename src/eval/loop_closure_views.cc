@@ -1,5 +1,7 @@
 #include "eval/loop_closure_views.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -54,6 +56,7 @@ std::map<ImageIndex, cv::Mat> ReadImages(const std::set<ImageIndex>& wanted,
     if (wanted.count(row.image)) by_name[row.name] = row.image;
   }
   std::map<ImageIndex, cv::Mat> read;
+  if (wanted.empty()) return read;
   if (std::filesystem::is_directory(images)) {
     for (const auto& [name, index] : by_name) {
       cv::Mat image = cv::imread(images + "/" + name, cv::IMREAD_COLOR);
@@ -88,8 +91,44 @@ std::string Alt(ImageIndex index, const std::map<ImageIndex, std::string>& names
          (name == names.end() ? "" : " (" + HtmlEscaped(name->second) + ")");
 }
 
+// The most recent earlier image of the same place (the revisit's nearest in time), or kNoImage.
+ImageIndex LatestTrueMatch(ImageIndex query, const GroundTruth& truth) {
+  for (ImageIndex match = std::min(query, truth.size()) - 1; match >= 0; --match) {
+    if (truth.IsLoop(query, match)) return match;
+  }
+  return kNoImage;
+}
+
 const char* VerdictClass(const std::string& verdict) {
-  return verdict == "false" ? "false" : verdict == "ignored" ? "ignored" : "true";
+  return verdict == "false"     ? "false"
+         : verdict == "ignored" ? "ignored"
+         : verdict == "missed"  ? "missed"
+                                : "true";
+}
+
+// "0101.jpg" (the image's name in the run), or "image 12" for a row without one.
+std::string NameOf(ImageIndex index, const std::map<ImageIndex, std::string>& names) {
+  const auto name = names.find(index);
+  return name == names.end() || name->second.empty() ? "image " + std::to_string(index)
+                                                     : HtmlEscaped(name->second);
+}
+
+// The row's words: what was matched, its value and verdict, and the true match when it is not.
+std::string Description(const LoopClosureView& view,
+                        const std::map<ImageIndex, std::string>& names) {
+  char value[64];
+  std::snprintf(value, sizeof(value), "p=%.3f", view.probability);
+  const std::string chosen =
+      view.match == kNoImage ? "no earlier place" : NameOf(view.match, names);
+  std::string text = "<b>" + NameOf(view.query, names) + "</b> ";
+  if (view.verdict == "missed") {
+    text += "<span class=\"verdict\">missed</span>: highest hypothesis " + chosen + ", " + value;
+  } else {
+    text += "&rarr; " + chosen + ", " + value;
+    if (!view.verdict.empty()) text += ": <span class=\"verdict\">" + view.verdict + "</span>";
+  }
+  if (view.true_match != kNoImage) text += "; true match " + NameOf(view.true_match, names);
+  return text;
 }
 
 }  // namespace
@@ -115,15 +154,30 @@ std::vector<LoopClosureView> AcceptedLoopClosures(const std::vector<RunRow>& row
           break;
         }
       }
+      if (verdict == Verdict::kFalse) view.true_match = LatestTrueMatch(row.image, *truth);
     }
     views.push_back(view);
   }
   return views;
 }
 
+std::vector<LoopClosureView> MissedLoopClosures(const std::vector<RunRow>& rows,
+                                                const GroundTruth& truth) {
+  std::vector<LoopClosureView> views;
+  for (const RunRow& row : rows) {
+    if (!row.matched_images.empty() || row.image >= truth.size()) continue;
+    const ImageIndex true_match = LatestTrueMatch(row.image, truth);
+    if (true_match == kNoImage) continue;
+    const ImageIndex chosen =
+        row.hypothesis_images.empty() ? kNoImage : row.hypothesis_images.front();
+    views.push_back({row.image, chosen, row.hypothesis_value, "missed", true_match});
+  }
+  return views;
+}
+
 std::vector<LoopClosureView> ChooseViews(const std::vector<LoopClosureView>& views, int max_views) {
   std::vector<LoopClosureView> chosen;
-  for (const char* verdict : {"false", "ignored", "true", ""}) {
+  for (const char* verdict : {"false", "missed", "ignored", "true", ""}) {
     std::vector<LoopClosureView> group;
     for (const LoopClosureView& view : views) {
       if (view.verdict == verdict) group.push_back(view);
@@ -141,27 +195,49 @@ std::vector<LoopClosureView> ChooseViews(const std::vector<LoopClosureView>& vie
 std::string LoopClosureViewsSection(const std::vector<LoopClosureView>& views,
                                     const std::vector<RunRow>& rows, const std::string& images,
                                     int max_views) {
-  const std::vector<LoopClosureView> chosen = ChooseViews(views, max_views);
+  const std::vector<LoopClosureView> listed = ChooseViews(views, kMaxListedViews);
+  std::set<ImageIndex> shown;  // the queries whose rows show images
   std::set<ImageIndex> wanted;
-  for (const LoopClosureView& view : chosen) wanted.insert({view.query, view.match});
+  if (!images.empty()) {
+    for (const LoopClosureView& view : ChooseViews(views, max_views)) {
+      shown.insert(view.query);
+      for (ImageIndex image : {view.query, view.match, view.true_match}) {
+        if (image != kNoImage) wanted.insert(image);
+      }
+    }
+  }
   const std::map<ImageIndex, cv::Mat> read = ReadImages(wanted, rows, images);
-  std::string html = "<section id=\"loop-closures\">\n<h2>Loop closures, image by image</h2>\n";
-  html += "<p class=\"caption\">The query image (left) and the matched image (right) of " +
-          (chosen.size() == views.size()
-               ? "every loop closure"
-               : std::to_string(chosen.size()) + " of the " + std::to_string(views.size()) +
-                     " loop closures (false positives first, the others spread evenly)") +
-          ".</p>\n<table class=\"views\">\n";
   std::map<ImageIndex, std::string> names;
   for (const RunRow& row : rows) names[row.image] = row.name;
-  char line[256];
-  for (const LoopClosureView& view : chosen) {
-    std::snprintf(line, sizeof(line), "image %d &rarr; image %d, p=%.3f%s%s", view.query,
-                  view.match, view.probability, view.verdict.empty() ? "" : ": ",
-                  view.verdict.c_str());
-    html += std::string("<tr class=\"") + VerdictClass(view.verdict) + "\"><td>" + line +
-            "</td><td>" + Thumbnail(read.at(view.query), Alt(view.query, names)) + "</td><td>" +
-            Thumbnail(read.at(view.match), Alt(view.match, names)) + "</td></tr>\n";
+  int misses = 0;
+  for (const LoopClosureView& view : views) misses += view.verdict == "missed";
+  const size_t accepted = views.size() - misses;
+  std::string html = "<section id=\"loop-closures\">\n<h2>Loop closures and misses</h2>\n";
+  html += "<p class=\"caption\">" + std::to_string(accepted) + " loop closures accepted" +
+          (misses > 0 ? ", " + std::to_string(misses) + " images with a true match missed" : "") +
+          (listed.size() < views.size() ? "; " + std::to_string(listed.size()) +
+                                              " listed (false positives and misses "
+                                              "first, the others spread evenly)"
+                                        : "") +
+          (images.empty() ? ""
+                          : "; " + std::to_string(shown.size()) +
+                                " with their images: the query, the place chosen and the "
+                                "true match") +
+          ".</p>\n<table class=\"views\">\n" +
+          (shown.empty() ? ""
+                         : "<tr><th></th><th>query</th><th>the place chosen</th><th>its true "
+                           "match (when not the place chosen)</th></tr>\n");
+  const auto thumbnail = [&](ImageIndex image) {
+    return image == kNoImage ? std::string() : Thumbnail(read.at(image), Alt(image, names));
+  };
+  for (const LoopClosureView& view : listed) {
+    html += std::string("<tr id=\"pair-") + std::to_string(view.query) + "\" class=\"" +
+            VerdictClass(view.verdict) + "\"><td>" + Description(view, names) + "</td>";
+    if (shown.count(view.query)) {
+      html += "<td>" + thumbnail(view.query) + "</td><td>" + thumbnail(view.match) + "</td><td>" +
+              thumbnail(view.true_match) + "</td>";
+    }
+    html += "</tr>\n";
   }
   return html + "</table>\n</section>\n";
 }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
 #include <sstream>
 
 #include "eval/gnuplot.h"
+#include "eval/ground_truth_figure.h"
 #include "eval/html_escape.h"
 #include "eval/loop_closure_views.h"
 
@@ -90,58 +92,11 @@ std::string MemoryFigure(const std::vector<RunRow>& rows) {
                    kWidth, kHeight);
 }
 
-// The ground-truth matrix with the run's loop closures, each drawn as eval judges it (Judge):
-// true, false, or on an ignored pair (counted neither way, so not drawn as a false positive).
-std::string GroundTruthFigure(const std::vector<RunRow>& rows, const GroundTruth& truth) {
-  std::vector<std::pair<double, double>> pairs, true_positives, false_positives, ignored, misses;
-  for (int query = 0; query < truth.size(); ++query) {
-    for (int match = 0; match < query; ++match) {
-      if (truth.IsLoop(query, match)) pairs.emplace_back(match, query);
-    }
-  }
-  std::vector<bool> found(truth.size(), false);
-  for (const LoopClosureView& view : AcceptedLoopClosures(rows, &truth)) {
-    const std::pair<double, double> point(view.match, view.query);
-    if (view.verdict == "true") {
-      true_positives.push_back(point);
-      found[view.query] = true;
-    } else {
-      (view.verdict == "ignored" ? ignored : false_positives).push_back(point);
-    }
-  }
-  for (int query = 0; query < truth.size(); ++query) {
-    if (found[query] || !truth.HasEarlierMatch(query)) continue;
-    for (int match = 0; match < query; ++match) {
-      if (truth.IsLoop(query, match)) {
-        misses.emplace_back(match, query);
-        break;
-      }
-    }
-  }
-  const double last = truth.size() - 0.5;
-  char ranges[160];
-  std::snprintf(ranges, sizeof(ranges), "set xrange [-0.5:%g]\nset yrange [%g:-0.5]\n", last, last);
-  return RenderSvg(Datablock("pairs", pairs) + Datablock("tp", true_positives) +
-                       Datablock("fp", false_positives) + Datablock("ignored", ignored) +
-                       Datablock("miss", misses) +
-                       "set xlabel 'Matched image'\nset ylabel 'Query image'\nset size ratio -1\n" +
-                       ranges + "set key outside right\nset grid\n" +
-                       PlotCommand({{!pairs.empty(),
-                                     "$pairs using 1:2 with points pt 5 ps 0.35 "
-                                     "lc rgb '#c7c7c7' title 'ground truth'"},
-                                    {!true_positives.empty(),
-                                     "$tp using 1:2 with points pt 7 ps 0.7 "
-                                     "lc rgb '#2ca02c' title 'true positive'"},
-                                    {!ignored.empty(),
-                                     "$ignored using 1:2 with points pt 4 ps 0.8 "
-                                     "lc rgb '#9467bd' title 'on an ignored pair'"},
-                                    {!false_positives.empty(),
-                                     "$fp using 1:2 with points pt 2 ps 1.2 "
-                                     "lc rgb '#d62728' title 'false positive'"},
-                                    {!misses.empty(),
-                                     "$miss using 1:2 with points pt 6 ps 0.9 "
-                                     "lc rgb '#ff7f0e' title 'missed'"}}),
-                   kHeight + 160, kHeight);
+template <typename... Values>
+std::string Printed(const char* format, Values... values) {
+  char text[1024];
+  std::snprintf(text, sizeof(text), format, values...);
+  return text;
 }
 
 // Iterations over T_time and the longest as a multiple of it, when the run's T_time is known.
@@ -167,32 +122,62 @@ std::string TimeBoundRows(const RunEvaluation& e) {
   return rows;
 }
 
-std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth, bool ignored_as_true) {
-  char text[2048];
-  std::snprintf(
-      text, sizeof(text),
-      "<table>\n"
-      "<tr><th>images</th><td>%d</td></tr>\n"
-      "<tr><th>ground truth</th><td>%d pairs, %d images with a loop%s</td></tr>\n"
-      "<tr><th>loop closures accepted</th><td>%d (true %d, false %d, on ignored pairs "
-      "%d)</td></tr>\n"
-      "<tr><th>precision</th><td>%.1f%%</td></tr>\n"
-      "<tr><th>recall</th><td>%.1f%%</td></tr>\n"
-      "<tr><th>recall at 100%% precision</th><td>%.1f%% (hypotheses &ge; %.4g)</td></tr>\n"
-      "<tr><th>max WM size</th><td>%d locations</td></tr>\n"
-      "<tr><th>max dictionary size</th><td>%d words</td></tr>\n"
-      "<tr><th>max iteration time</th><td>%.3f s</td></tr>\n"
-      "<tr><th>median iteration time</th><td>%.1f ms</td></tr>\n"
-      "%s"
-      "</table>\n",
-      e.images, truth.PairCount(), e.accepted.loop_images,
-      ignored_as_true ? " (ignored pairs counted as loops: --ignored-as-true)" : "",
-      e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
-      e.accepted.false_positives, e.accepted.ignored, 100 * e.accepted.Precision(),
-      100 * e.accepted.Recall(), 100 * e.recall_at_full_precision, e.threshold_at_full_precision,
-      e.max_wm_size, e.max_dictionary_size, e.max_iteration_ms / 1000, e.median_iteration_ms,
-      TimeBoundRows(e).c_str());
-  return text;
+// "T_time", the run's time bound, or how to give it.
+std::string TimeLimitRow(const RunEvaluation& e) {
+  return e.time_limit_ms > 0
+             ? "<tr><th>T<sub>time</sub></th><td>" + Printed("%g ms", e.time_limit_ms) +
+                   "</td></tr>\n" + TimeBoundRows(e)
+             : "<tr><th>T<sub>time</sub></th><td>not given (--map or --time-limit-ms)</td></tr>\n";
+}
+
+// The map's parameters: those that differ from the defaults in the row, all of them folded.
+std::string ParameterRows(const std::vector<ReportParameter>& parameters) {
+  if (parameters.empty()) {
+    return "<tr><th>parameters</th><td>not given (--map: the run's map records them)</td></tr>\n";
+  }
+  std::string changed, all;
+  for (const ReportParameter& parameter : parameters) {
+    const std::string pair = HtmlEscaped(parameter.name) + "=" + HtmlEscaped(parameter.value);
+    if (parameter.value != parameter.default_value) changed += (changed.empty() ? "" : ", ") + pair;
+    all += "<tr><td>" + HtmlEscaped(parameter.name) + "</td><td>" + HtmlEscaped(parameter.value) +
+           "</td></tr>";
+  }
+  return "<tr><th>parameters</th><td>" + (changed.empty() ? "the defaults" : changed) +
+         " <details><summary>all " + std::to_string(parameters.size()) + "</summary><table>" + all +
+         "</table></details></td></tr>\n";
+}
+
+// The common rows after the verdicts: time, memory and parameters.
+std::string RunRows(const RunEvaluation& e, const ReportOptions& options) {
+  return TimeLimitRow(e) + "<tr><th>repeatability</th><td>" + TimeDecidedLine(e) + "</td></tr>\n" +
+         Printed("<tr><th>iteration time</th><td>median %.1f ms, max %.3f s</td></tr>\n",
+                 e.median_iteration_ms, e.max_iteration_ms / 1000) +
+         Printed("<tr><th>max WM size, dictionary</th><td>%d locations, %d words</td></tr>\n",
+                 e.max_wm_size, e.max_dictionary_size) +
+         ParameterRows(options.parameters);
+}
+
+// What the run delivered first, then what a threshold chosen afterwards would have given.
+std::string SummaryTable(const RunEvaluation& e, const GroundTruth& truth,
+                         const ReportOptions& options) {
+  return "<table class=\"summary\">\n" +
+         Printed("<tr><th>images</th><td>%d</td></tr>\n", e.images) +
+         "<tr><th>ground truth</th><td>" + HtmlEscaped(options.ground_truth) +
+         Printed(": %d pairs, %d images with a loop", truth.PairCount(), e.accepted.loop_images) +
+         (options.ignored_as_true ? " (ignored pairs counted as loops: --ignored-as-true)" : "") +
+         "</td></tr>\n" +
+         Printed(
+             "<tr class=\"run\"><th>the run accepted, at its T<sub>loop</sub></th><td>%d "
+             "loop closures (true %d, false %d, on ignored pairs %d): precision %.1f%%, "
+             "recall %.1f%%</td></tr>\n",
+             e.accepted.detections + e.accepted.ignored, e.accepted.true_positives,
+             e.accepted.false_positives, e.accepted.ignored, 100 * e.accepted.Precision(),
+             100 * e.accepted.Recall()) +
+         Printed(
+             "<tr><th>best threshold, chosen afterwards</th><td>recall at 100%% precision "
+             "%.1f%% (hypotheses &ge; %.4g)</td></tr>\n",
+             100 * e.recall_at_full_precision, e.threshold_at_full_precision) +
+         RunRows(e, options) + "</table>\n";
 }
 
 // Records page errors and, once loaded, how many figures drew something and how many thumbnails
@@ -213,6 +198,9 @@ window.addEventListener('load', function () {
     if (img.complete && img.naturalWidth > 0) images++;
   });
   document.body.setAttribute('data-images', String(images));
+  var first = document.querySelector('.views tr img');
+  document.body.setAttribute('data-first-pair-bottom', first ?
+      String(Math.round(first.closest('tr').getBoundingClientRect().bottom + window.scrollY)) : '-1');
   document.body.setAttribute('data-errors', window.memloopErrors.join(' | '));
 });
 </script>)";
@@ -231,17 +219,21 @@ namespace {
 std::string PageStart(const std::string& title) {
   return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
          HtmlEscaped(title) + "</title>\n" + kCheckScript +
-         "\n<style>\nbody { font-family: sans-serif; max-width: 960px; margin: 2em auto; color: "
-         "#222; }\n"
-         "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 4px "
-         "10px; text-align: left; }\n.figure { margin: 2em 0; }\n.caption { color: #555; }\n"
-         ".views tr.false td:first-child { color: #d62728; font-weight: bold; }\n"
-         ".views tr.ignored td:first-child { color: #9467bd; }\n</style>\n"
+         "\n<style>\nbody { font-family: sans-serif; max-width: 1100px; margin: 1em auto; color: "
+         "#222; }\nh1 { font-size: 1.4em; margin: 0.3em 0; }\nh2 { font-size: 1.2em; }\n"
+         "table { border-collapse: collapse; }\nth, td { border: 1px solid #ccc; padding: 3px "
+         "8px; text-align: left; vertical-align: top; }\n.summary th { width: 300px; }\n.summary "
+         "tr.run td { font-weight: bold; }"
+         "\n.figure { margin: 2em 0; }\n.caption { color: #555; }\n"
+         ".views td:first-child { width: 260px; }\n.views tr:target { outline: 3px solid #1f77b4; }"
+         "\n.views tr.false .verdict { color: #d62728; font-weight: bold; }\n"
+         ".views tr.missed .verdict { color: #ff7f0e; font-weight: bold; }\n"
+         ".views tr.ignored .verdict { color: #9467bd; }\n</style>\n"
          "</head>\n<body data-rendered=\"0\" data-errors=\"\">\n<h1>" +
          HtmlEscaped(title) + "</h1>\n";
 }
 
-// What needs no ground truth: time per image, WM and dictionary, and the views when asked for.
+// What needs no ground truth: time per image, WM and dictionary.
 std::string RunFigures(const std::vector<RunRow>& rows, const ReportOptions& options) {
   std::string page = Figure("time", "Processing time per image",
                             "As the paper's Fig. 4: the time of each iteration, with the time "
@@ -253,30 +245,42 @@ std::string RunFigures(const std::vector<RunRow>& rows, const ReportOptions& opt
   return page;
 }
 
-std::string Views(const std::vector<RunRow>& rows, const GroundTruth* truth,
-                  const ReportOptions& options) {
-  if (options.images.empty()) return "";
-  return LoopClosureViewsSection(AcceptedLoopClosures(rows, truth), rows, options.images,
-                                 options.max_views);
+std::vector<std::string> Names(const std::vector<RunRow>& rows) {
+  std::vector<std::string> names;
+  for (const RunRow& row : rows) {
+    if (row.image >= static_cast<ImageIndex>(names.size())) names.resize(row.image + 1);
+    names[row.image] = row.name;
+  }
+  return names;
+}
+
+// The queries that have a row in the views section (ChooseViews' list): what the figure links.
+std::set<ImageIndex> Listed(const std::vector<LoopClosureView>& views) {
+  std::set<ImageIndex> listed;
+  for (const LoopClosureView& view : ChooseViews(views, kMaxListedViews)) listed.insert(view.query);
+  return listed;
 }
 
 }  // namespace
 
 std::string MakeReport(const std::vector<RunRow>& rows, const GroundTruth& truth,
                        const RunEvaluation& evaluation, const ReportOptions& options) {
-  std::string page =
-      PageStart(options.title) + SummaryTable(evaluation, truth, options.ignored_as_true);
+  std::vector<LoopClosureView> views = AcceptedLoopClosures(rows, &truth);
+  const std::vector<LoopClosureView> misses = MissedLoopClosures(rows, truth);
+  views.insert(views.end(), misses.begin(), misses.end());
+  std::string page = PageStart(options.title) + SummaryTable(evaluation, truth, options);
+  page += LoopClosureViewsSection(views, rows, options.images, options.max_views);
+  page += Figure("ground-truth", "Ground truth, loop closures and misses",
+                 "Grey: ground-truth pairs (query, earlier match). Green: true positives. Purple: "
+                 "loop closures on pairs the ground truth ignores (counted neither way). Red: "
+                 "false positives. Orange: images with a ground-truth loop and no loop closure, "
+                 "at their true match. A point leads to its images.",
+                 GroundTruthSvg(truth, views, Listed(views), Names(rows)));
   page += Figure("precision-recall", "Precision-recall curve",
                  "Every iteration's highest hypothesis, accepted when its value is at least the "
                  "threshold; the run's own operating point is marked.",
                  PrecisionRecallFigure(evaluation));
-  page += RunFigures(rows, options);
-  page += Figure("ground-truth", "Ground truth and detections",
-                 "Grey: ground-truth pairs (query, earlier match). Green: true positives. Purple: "
-                 "loop closures on pairs the ground truth ignores (counted neither way). Red: "
-                 "false positives. Orange: images with a ground-truth loop and no true detection.",
-                 GroundTruthFigure(rows, truth));
-  return page + Views(rows, &truth, options) + "</body>\n</html>\n";
+  return page + RunFigures(rows, options) + "</body>\n</html>\n";
 }
 
 std::string MakeRunReport(const std::vector<RunRow>& rows, const ReportOptions& options) {
@@ -285,18 +289,17 @@ std::string MakeRunReport(const std::vector<RunRow>& rows, const ReportOptions& 
       EvaluateRun(rows, GroundTruth(cv::Mat::zeros(1, 1, CV_8U)), options.time_limit_ms);
   int loop_closures = 0;
   for (const RunRow& row : rows) loop_closures += !row.matched_images.empty();
-  char text[1024];
-  std::snprintf(text, sizeof(text),
-                "<table>\n<tr><th>images</th><td>%d</td></tr>\n"
-                "<tr><th>loop closures accepted</th><td>%d (no ground truth given)</td></tr>\n"
-                "<tr><th>max WM size</th><td>%d locations</td></tr>\n"
-                "<tr><th>max dictionary size</th><td>%d words</td></tr>\n"
-                "<tr><th>max iteration time</th><td>%.3f s</td></tr>\n"
-                "<tr><th>median iteration time</th><td>%.1f ms</td></tr>\n%s</table>\n",
-                e.images, loop_closures, e.max_wm_size, e.max_dictionary_size,
-                e.max_iteration_ms / 1000, e.median_iteration_ms, TimeBoundRows(e).c_str());
-  return PageStart(options.title) + text + RunFigures(rows, options) +
-         Views(rows, nullptr, options) + "</body>\n</html>\n";
+  const std::string summary =
+      "<table class=\"summary\">\n" + Printed("<tr><th>images</th><td>%d</td></tr>\n", e.images) +
+      Printed(
+          "<tr class=\"run\"><th>loop closures accepted</th><td>%d (no ground truth given)"
+          "</td></tr>\n",
+          loop_closures) +
+      RunRows(e, options) + "</table>\n";
+  return PageStart(options.title) + summary +
+         LoopClosureViewsSection(AcceptedLoopClosures(rows, nullptr), rows, options.images,
+                                 options.max_views) +
+         RunFigures(rows, options) + "</body>\n</html>\n";
 }
 
 }  // namespace memloop

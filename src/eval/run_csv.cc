@@ -38,7 +38,8 @@ constexpr const char* kHeader =
     "iteration_ms,signature_ms,rehearsal_ms,likelihood_ms,filter_ms,selection_ms,retrieval_ms,"
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
     "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session,features_skipped,appearance_match,"
-    "appearance_z,rel_tx,rel_ty,rel_tz,rel_qx,rel_qy,rel_qz,rel_qw,rel_metric,pose_reason";
+    "appearance_z,rel_tx,rel_ty,rel_tz,rel_qx,rel_qy,rel_qz,rel_qw,rel_metric,pose_reason,"
+    "time_decided";
 
 // Seconds to the microsecond (TUM's resolution; EuRoC's nanoseconds are beyond a double's
 // precision at today's epoch anyway); empty when unknown.
@@ -219,7 +220,7 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   } else {
     row << ',';
   }
-  row << ',' << RelativePose(result) << '\n';
+  row << ',' << RelativePose(result) << ',' << result.time_decided << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
@@ -360,6 +361,7 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
       row.timestamp = real_of("timestamp", -1e12, 1e12);
     }
     if (column.count("session")) row.session = static_cast<int>(integer_of("session", kMaxId));
+    if (column.count("time_decided")) row.time_decided = text("time_decided");
     rows.push_back(std::move(row));
   }
   // Images are indexed by their position in the input, skipped (unreadable) ones included: a run

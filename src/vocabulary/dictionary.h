@@ -70,6 +70,7 @@ class Dictionary {
   size_t size() const { return words_.size(); }
   // WordIndex::SetSwapWait: how long a quantization may wait for a due background rebuild.
   void SetSwapWait(std::function<double()> budget_ms) { index_->SetSwapWait(std::move(budget_ms)); }
+  int late_steps() const { return index_->late_steps(); }  // WordIndex::late_steps
   int descriptor_dim() const { return index_->dim(); }
   int search_threads() const { return std::max(1, options_.search_threads); }
   DescriptorKind descriptor_kind() const { return index_->kind(); }

@@ -77,6 +77,9 @@ class FlannWordIndex : public WordIndex {
         KeepCatchingUp();
       }
       if (pending_->catching_up && SwapDue() && !CatchUpAgain()) FinishBuild();
+      // Still pending at or past its swap: late (a late catch-up alone is not: it adds the same
+      // points one by one, in other batches, and the new forest is the same, KeepCatchingUp).
+      if (pending_ && pending_->age >= SwapDelay(pending_->words.size())) ++late_steps_;
     } else if (changes_since_build_ >
                options_.rebuild_fraction * std::max<size_t>(size_at_build_, 1)) {
       if (options_.rebuild_delay > 0 && points_.size() > 0) {
@@ -99,6 +102,7 @@ class FlannWordIndex : public WordIndex {
   bool Contains(WordId id) const override { return points_.Contains(id); }
   size_t size() const override { return points_.size(); }
   int build_count() const override { return build_count_; }
+  int late_steps() const override { return late_steps_; }
   void SetSwapWait(std::function<double()> budget_ms) override {
     swap_wait_ms_ = std::move(budget_ms);
   }
@@ -583,6 +587,7 @@ class FlannWordIndex : public WordIndex {
   std::vector<WordId> removed_since_snapshot_;  // words Remove()d while a build is pending
   std::future<void> retired_;                   // the old forest being freed after a swap
   std::function<double()> swap_wait_ms_;        // SetSwapWait
+  int late_steps_ = 0;                          // late_steps()
   std::unique_ptr<Index> index_;
   std::deque<std::vector<Element>> buffers_;
   PointMap points_;                   // live words <-> their points

@@ -68,6 +68,9 @@ class WordIndex {
                                                        const SearchOptions& options = {}) const = 0;
   // Full builds so far.
   virtual int build_count() const = 0;
+  // Adds at which a background build's swap was due but not done, and was not waited for (T_time
+  // on): until it is done, searches use the old forest, where a run without T_time has the new.
+  virtual int late_steps() const { return 0; }
   // The history since the last build, with the points from `from_point` on. Unless `complete`,
   // the points' descriptors and the pending build's words are left empty (PointDescriptor and
   // PendingWords give them): what a checkpoint needs at every image is small.

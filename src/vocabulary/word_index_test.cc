@@ -155,6 +155,37 @@ TEST(WordIndexTest, BackgroundRebuildIsNotWaitedForWithSwapWhenReady) {
   EXPECT_EQ(index->size(), 401u + (next - 1000));
 }
 
+// late_steps counts the Adds at which a due swap was not done: with T_time on, a swap later than
+// its delay was late at each Add after it, a swap on time never; with T_time off the step is waited
+// for, never late. (Whether a build is late depends on the machine; the verdict does not.)
+TEST(WordIndexTest, LateStepsCountBuildsNotWaitedFor) {
+  for (bool swap_when_ready : {false, true}) {
+    DictionaryOptions options;
+    options.rebuild_delay = 2;
+    options.rebuild_swap_when_ready = swap_when_ready;
+    auto index = WordIndex::Create(DescriptorKind::kFloat, 8, options);
+    index->Add(Ids(1, 20000), RandomPoints(20000, 8, 6));
+    index->Add(Ids(20001, 20001), RandomPoints(20001, 8, 7));  // starts a 40,001-word build
+    WordId next = 50000;
+    int adds = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+    while (index->build_count() == 1 && std::chrono::steady_clock::now() < deadline) {
+      index->Add({next}, RandomPoints(1, 8, next));
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      ++next;
+      ++adds;
+    }
+    ASSERT_EQ(index->build_count(), 2) << swap_when_ready;
+    if (!swap_when_ready) {
+      EXPECT_EQ(adds, 4);  // the delay for 40,001 words, waited for
+      EXPECT_EQ(index->late_steps(), 0);
+    } else {
+      EXPECT_GE(adds, 4);
+      EXPECT_EQ(index->late_steps(), adds - 4);
+    }
+  }
+}
+
 // With T_time on, points that come while the new forest catches up are caught up in more rounds
 // (as many as the threads' speed makes): every live word is still found, at distance 0, and no
 // removed one. The first 30,000 points come in batches larger than a swap adds itself, then one
