@@ -83,7 +83,8 @@ TEST_F(ReportTest, RendersInABrowserWithEachLoopClosuresImages) {
   const std::string html = ReadFile(page);
   ExpectSelfContained(html);
   EXPECT_TRUE(Contains(html, std::to_string(loop_closures) + " loop closures accepted, " +
-                                 std::to_string(misses) + " images with a true match missed"));
+                                 std::to_string(misses) + (misses == 1 ? " image" : " images") +
+                                 " with a true match missed"));
   EXPECT_TRUE(Contains(html, "; 20 with their images"));
   EXPECT_TRUE(Contains(html, "memory.stm_size=12"));  // the map's parameters, the changed one named
   EXPECT_TRUE(Contains(html, "<td>700 ms</td>"));

@@ -509,11 +509,13 @@ class Detector::Impl {
         options_.memory, iteration.ElapsedMs(), result.times.WmStagesMs(),
         static_cast<int>(memory_.working_memory().size()), dictionary_size_at_start_);
     const Stopwatch stopwatch;
+    bool cut_short = false;
     result.transferred_ids =
         Transfer(trigger, retrieved_immune_.InWorkingMemory(memory_), KeptLast(hypothesis), memory_,
-                 editor_, DeadlineOf(iteration, &transfer_cost_));
-    if (trigger.time_exceeded && !result.transferred_ids.empty())
+                 editor_, DeadlineOf(iteration, &transfer_cost_), &cut_short);
+    if ((trigger.time_exceeded && !result.transferred_ids.empty()) || cut_short) {
       result.AddTimeDecision("transfer");
+    }
     transfer_step_cost_.Record(stopwatch.ElapsedMs());
   }
 

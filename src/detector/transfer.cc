@@ -63,7 +63,7 @@ std::vector<LocationId> TransferOrder(const Memory& memory, const std::set<Locat
 
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
                                  const std::set<LocationId>& last, const Memory& memory,
-                                 MapEditor& editor, const StepDeadline& deadline) {
+                                 MapEditor& editor, const StepDeadline& deadline, bool* cut_short) {
   const Dictionary& dictionary = memory.dictionary();
   const auto over_budget = [&] {
     return (trigger.max_wm_locations > 0 &&
@@ -72,12 +72,14 @@ std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<
             static_cast<int>(dictionary.size()) > trigger.max_dictionary_words);
   };
   std::vector<LocationId> transferred;
+  if (cut_short != nullptr) *cut_short = false;
   if (!trigger.time_exceeded && !over_budget()) return transferred;
   for (LocationId id : TransferOrder(memory, immune, last)) {
     const bool rule_met = !transferred.empty() && !over_budget() &&
                           dictionary.size() <= trigger.dictionary_size_at_start;
-    if (rule_met &&
-        (static_cast<int>(transferred.size()) >= trigger.min_locations || !deadline.Fits())) {
+    const bool enough = static_cast<int>(transferred.size()) >= trigger.min_locations;
+    if (rule_met && (enough || !deadline.Fits())) {
+      if (cut_short != nullptr) *cut_short = !enough;
       break;
     }
     const Stopwatch stopwatch;

@@ -91,9 +91,11 @@ class RecentRetrievals {
 // Transfers while the trigger holds (at least one location, and trigger.min_locations, once
 // triggered). Returns the ids. The paper's rule and the budgets are met whatever the time; the
 // locations beyond them that min_locations asks for go only while they fit `deadline` (memloop:
-// 20 of them at once took 15 ms and a third of the iterations over T_time, issue 9).
+// 20 of them at once took 15 ms and a third of the iterations over T_time). `cut_short`, when
+// given, is set when the deadline stopped it before min_locations.
 std::vector<LocationId> Transfer(const TransferTrigger& trigger, const std::set<LocationId>& immune,
                                  const std::set<LocationId>& last, const Memory& memory,
-                                 MapEditor& editor, const StepDeadline& deadline = StepDeadline());
+                                 MapEditor& editor, const StepDeadline& deadline = StepDeadline(),
+                                 bool* cut_short = nullptr);
 
 }  // namespace memloop

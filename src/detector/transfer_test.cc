@@ -79,8 +79,10 @@ TEST_F(TransferTest, TimeControllerTransfersItsCount) {
   trigger.time_exceeded = true;
   trigger.dictionary_size_at_start = memory_.dictionary().size();
   trigger.min_locations = 3;
-  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_),
+  bool cut_short = true;
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, StepDeadline(), &cut_short),
             (std::vector<LocationId>{ids_[1], ids_[2], ids_[3]}));
+  EXPECT_FALSE(cut_short);  // no deadline: all it asked for
 }
 
 // Past T_time's deadline, the controller's extra locations wait; the paper's rule and a budget
@@ -92,7 +94,10 @@ TEST_F(TransferTest, TheControllersExtraLocationsGoOnlyWhileTheyFit) {
   trigger.min_locations = 3;
   StepCost cost;
   const StepDeadline past([] { return 60.0; }, 50, &cost);
-  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, past), (std::vector<LocationId>{ids_[1]}));
+  bool cut_short = false;
+  EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, past, &cut_short),
+            (std::vector<LocationId>{ids_[1]}));
+  EXPECT_TRUE(cut_short);        // time decided: 1 of the 3 asked for
   EXPECT_TRUE(cost.measured());  // the one it took was timed
   trigger.max_wm_locations = 1;  // 3 left in WM: two more must go
   EXPECT_EQ(Transfer(trigger, {}, {}, memory_, editor_, past),

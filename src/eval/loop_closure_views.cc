@@ -214,7 +214,9 @@ std::string LoopClosureViewsSection(const std::vector<LoopClosureView>& views,
   const size_t accepted = views.size() - misses;
   std::string html = "<section id=\"loop-closures\">\n<h2>Loop closures and misses</h2>\n";
   html += "<p class=\"caption\">" + std::to_string(accepted) + " loop closures accepted" +
-          (misses > 0 ? ", " + std::to_string(misses) + " images with a true match missed" : "") +
+          (misses > 0 ? ", " + std::to_string(misses) + (misses == 1 ? " image" : " images") +
+                            " with a true match missed"
+                      : "") +
           (listed.size() < views.size() ? "; " + std::to_string(listed.size()) +
                                               " listed (false positives and misses "
                                               "first, the others spread evenly)"
