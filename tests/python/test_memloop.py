@@ -161,6 +161,7 @@ def test_grey_images_and_results(tmp_path):
     assert result.retrieved_ids == [] and result.retrievals_deferred == 0
     assert result.retrievals_unread == 0
     assert result.appearance_match_id == 0 and result.appearance_match_z == 0
+    assert result.time_decided == ""  # T_time off: time decides nothing
     assert "image 0 -> location 1" in repr(result)
     detector.close()
     with pytest.raises(memloop.Error, match="the detector is closed"):
