@@ -35,9 +35,9 @@ std::vector<LoopClosureView> MissedLoopClosures(const std::vector<RunRow>& rows,
 
 // An HTML section with one row per view (id "pair-QUERY", what the figures link to), false
 // positives first, then misses, ignored and true ones, at most kMaxListedViews. With `images`
-// (the folder or video the run read), `max_views` of the rows (spread evenly over each verdict's
-// list when there are more; each verdict's first always) show the query, the chosen image and the
-// true match as thumbnails. Images are found by the names in `rows` (a folder's files, a video's
+// (the folder or video the run read), `max_views` of the rows (in the same order, spread evenly
+// over a verdict's list when it does not fit) show the query, the chosen image and the true
+// match as thumbnails. Images are found by the names in `rows` (a folder's files, a video's
 // "frame N", its frame number also when the run sampled it with --rate), each thumbnail's alt text
 // "image I (NAME)". Throws InputError naming `images` when it is not the run's sequence.
 std::string LoopClosureViewsSection(const std::vector<LoopClosureView>& views,

@@ -55,6 +55,49 @@ TEST(LoopClosureViewsTest, AcceptedLoopClosuresAreJudgedAsEvalJudgesThem) {
   }
 }
 
+// A miss is an image with a true earlier match and no loop closure accepted: it names what its
+// highest hypothesis chose (or no earlier place) and its most recent true match. A false positive
+// names its true match too; an image accepted on a true pair, or with no true match, is no miss.
+TEST(LoopClosureViewsTest, MissesNameTheChoiceAndTheLatestTrueMatch) {
+  cv::Mat labels = cv::Mat::zeros(7, 7, CV_8U);
+  labels.at<unsigned char>(4, 0) = GroundTruth::kLoop;
+  labels.at<unsigned char>(4, 1) = GroundTruth::kLoop;
+  labels.at<unsigned char>(5, 2) = GroundTruth::kLoop;
+  labels.at<unsigned char>(6, 3) = GroundTruth::kLoop;
+  labels.at<unsigned char>(6, 1) = GroundTruth::kIgnored;
+  const GroundTruth truth(labels);
+  std::vector<RunRow> rows;
+  for (ImageIndex image = 0; image < 7; ++image) rows.push_back(Row(image, {}));
+  rows[4].hypothesis_images = {3};  // missed: chose 3, its true matches are 0 and 1
+  rows[4].hypothesis_value = 0.07;
+  rows[5].matched_images = {2};     // found
+  rows[6].matched_images = {0};     // false, true match 3
+  rows[3].hypothesis_images = {1};  // no true match: not a miss
+
+  const std::vector<LoopClosureView> misses = MissedLoopClosures(rows, truth);
+  ASSERT_EQ(misses.size(), 1u);
+  EXPECT_EQ(misses[0].query, 4);
+  EXPECT_EQ(misses[0].match, 3);
+  EXPECT_DOUBLE_EQ(misses[0].probability, 0.07);
+  EXPECT_EQ(misses[0].true_match, 1);  // the most recent of 0 and 1
+  EXPECT_EQ(misses[0].verdict, "missed");
+  const std::vector<LoopClosureView> accepted = AcceptedLoopClosures(rows, &truth);
+  ASSERT_EQ(accepted.size(), 2u);
+  EXPECT_EQ(accepted[0].true_match, kNoImage);  // true: nothing else to show
+  EXPECT_EQ(accepted[1].verdict, "false");
+  EXPECT_EQ(accepted[1].true_match, 3);
+  // The virtual place as the highest hypothesis: no earlier place chosen.
+  rows[4].hypothesis_images.clear();
+  EXPECT_EQ(MissedLoopClosures(rows, truth)[0].match, kNoImage);
+  // Misses come after false positives, before the others.
+  std::vector<LoopClosureView> all = accepted;
+  all.insert(all.end(), misses.begin(), misses.end());
+  const std::vector<LoopClosureView> order = ChooseViews(all, 10);
+  EXPECT_EQ(order[0].verdict, "false");
+  EXPECT_EQ(order[1].verdict, "missed");
+  EXPECT_EQ(order[2].verdict, "true");
+}
+
 TEST(LoopClosureViewsTest, FalsePositivesComeFirstTheOthersSpreadEvenly) {
   std::vector<LoopClosureView> views;
   for (int k = 0; k < 6; ++k) views.push_back({10 + k, k, 0.5, "true"});
