@@ -102,7 +102,8 @@ TEST_F(EvalCommandTest, IgnoredPairsBesideThePairsCsvAndTheDatasetFolder) {
 }
 
 // Bad input: a folder without ground truth, an --ignore that names an unknown image, a --format
-// with a folder, --ignore without ground truth: one line each, a nonzero exit.
+// with a folder, a --map that is not a map, --ignore without ground truth: one line each, a
+// nonzero exit.
 TEST_F(EvalCommandTest, BadGroundTruthArgumentsAreRefusedWithOneLine) {
   const std::string run = dir_.File("run.csv");
   ASSERT_EQ(Memloop("run " + Images() + " --set memory.time_limit_ms=0 --out " + run).exit_code, 0);
@@ -125,6 +126,12 @@ TEST_F(EvalCommandTest, BadGroundTruthArgumentsAreRefusedWithOneLine) {
   EXPECT_NE(format.exit_code, 0);
   EXPECT_TRUE(Contains(format.output, "a data set folder picks its own ground truth"))
       << format.output;
+  std::ofstream(dir_.File("not_a_map.db")) << "not a map";
+  const Outcome not_a_map = Memloop("eval " + run + " " + folder_->path().string() + " --map " +
+                                    dir_.File("not_a_map.db"));
+  EXPECT_NE(not_a_map.exit_code, 0);
+  EXPECT_TRUE(Contains(not_a_map.output, "memloop: error: " + dir_.File("not_a_map.db")))
+      << not_a_map.output;
   const Outcome report = Memloop("report " + run + " --ignore " + dir_.File("ignore.csv") +
                                  " --out " + dir_.File("r.html"));
   EXPECT_NE(report.exit_code, 0);
