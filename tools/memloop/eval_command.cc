@@ -149,7 +149,10 @@ Evaluated Evaluate(const std::string& run, const GroundTruthArguments& ground_tr
     }
     files = GroundTruth::DatasetFiles(ground_truth.path);
   }
-  if (!ground_truth.ignore.empty()) files.resize(1), files.push_back(ground_truth.ignore);
+  if (!ground_truth.ignore.empty()) {
+    files.resize(1);  // --ignore instead of a data set's own ignored pairs
+    files.push_back(ground_truth.ignore);
+  }
   GroundTruth truth = GroundTruth::Load(files[0], GroundTruth::ParseFormat(ground_truth.format),
                                         names, image_count);
   if (files.size() > 1) truth = truth.WithIgnoredPairs(files[1], names);
