@@ -99,25 +99,23 @@ std::string Printed(const char* format, Values... values) {
   return text;
 }
 
-// Iterations over T_time and the longest as a multiple of it, when the run's T_time is known.
+// Iterations over T_time and the longest as a multiple of it, when the run's T_time is known
+// (TimeLimitRow gives T_time itself).
 std::string TimeBoundRows(const RunEvaluation& e) {
   if (e.time_limit_ms <= 0) return "";
-  char text[512];
-  std::snprintf(text, sizeof(text),
-                "<tr><th>iterations over T<sub>time</sub> (%g ms)</th><td>%d (%.2f%%)</td></tr>\n"
-                "<tr><th>max iteration / T<sub>time</sub></th><td>%.2f</td></tr>\n"
-                "<tr><th>fixed cost (median outside WM's stages)</th><td>%.1f ms</td></tr>\n",
-                e.time_limit_ms, e.iterations_over_time_limit, 100 * e.FractionOverTimeLimit(),
-                e.max_over_time_limit, e.median_fixed_ms);
-  std::string rows = text;
+  std::string rows = Printed(
+      "<tr><th>iterations over T<sub>time</sub></th><td>%d (%.2f%%)</td></tr>\n"
+      "<tr><th>max iteration / T<sub>time</sub></th><td>%.2f</td></tr>\n"
+      "<tr><th>fixed cost (median outside WM's stages)</th><td>%.1f ms</td></tr>\n",
+      e.iterations_over_time_limit, 100 * e.FractionOverTimeLimit(), e.max_over_time_limit,
+      e.median_fixed_ms);
   if (e.median_cpu_share >= 0) {
-    std::snprintf(text, sizeof(text),
-                  "<tr><th>detector's thread on the CPU (median share of an iteration)</th>"
-                  "<td>%.0f%%</td></tr>\n"
-                  "<tr><th>over T<sub>time</sub> with it on the CPU under %.0f%% of the time"
-                  "</th><td>%d</td></tr>\n",
-                  100 * e.median_cpu_share, 100 * kWaitedCpuShare, e.over_time_limit_waiting);
-    rows += text;
+    rows += Printed(
+        "<tr><th>detector's thread on the CPU (median share of an iteration)</th>"
+        "<td>%.0f%%</td></tr>\n"
+        "<tr><th>over T<sub>time</sub> with it on the CPU under %.0f%% of the time"
+        "</th><td>%d</td></tr>\n",
+        100 * e.median_cpu_share, 100 * kWaitedCpuShare, e.over_time_limit_waiting);
   }
   return rows;
 }
