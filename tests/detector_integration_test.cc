@@ -220,25 +220,23 @@ TEST(DetectorIntegrationTest, RecallDegradesGracefullyUnderWorkingMemoryBudgets)
 // The paper's transfer order under a budget of 30, for contrast: with the text's rule alone (a
 // retrieved location immune for the retrieving iteration only) the retrieved neighbours, old and
 // of weight 0, are the first to leave again and recall collapses; the paper's 2011 code kept
-// them 10 iterations (memory.retrieved_immune_iterations, in the paper2011 preset), and memloop
-// keeps the highest hypothesis' neighbourhood last (memory.protect_hypothesis). Both bring it back.
+// them 10 iterations (memory.retrieved_immune_iterations, in the paper2011 preset), which brings
+// it back. memloop keeps the highest hypothesis' neighbourhood last instead
+// (memory.protect_hypothesis, on by default: the test before this one); measured here, 95%.
 TEST(DetectorIntegrationTest, Paper2011TransferOrderNeedsItsRetrievalDelayUnderABudget) {
   const SyntheticRoute route;
   Options options = Options::Paper2011();
   options.memory.time_limit_ms = 0;
   options.memory.max_wm_locations = 30;
   // The map's invariants are checked after every image of the first run only (the preset's own
-  // transfer order); the other two differ from it by one parameter each.
+  // transfer order); the other differs from it by one parameter.
   const PrecisionRecall code = Score(route, RunRoute(route, options));
   options.memory.retrieved_immune_iterations = 1;
   const PrecisionRecall text = Score(route, RunRoute(route, options, false));
-  options.memory.protect_hypothesis = 1;
-  const PrecisionRecall kept = Score(route, RunRoute(route, options, false));
   EXPECT_LT(text.Recall(), 0.5);
   EXPECT_GT(code.Recall(), text.Recall() + 0.2);
-  EXPECT_GT(kept.Recall(), text.Recall() + 0.2);
   std::cout << "paper2011 under WM 30: recall " << text.Recall() << " (text), " << code.Recall()
-            << " (2011 code), " << kept.Recall() << " (protect_hypothesis)\n";
+            << " (2011 code)\n";
 }
 
 TEST(DetectorIntegrationTest, SameInputSameResults) {

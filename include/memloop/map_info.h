@@ -27,8 +27,9 @@ struct MapLoopClosure {
   ImageIndex match_image = kNoImage;
   LocationId query_location = kNoLocation;
   LocationId match_location = kNoLocation;
-  double probability = 0;  // the hypothesis value that accepted it
+  double probability = 0;  // the hypothesis value that accepted it (0 for one added by hand)
   LoopClosurePose pose;    // estimated = false in maps made before it was kept
+  long long added_by_edit = 0;  // the edit that added it (loop_closure_edits.h), 0 when detected
 };
 
 // An image of the map: what Detector::Process was told of it (ImageInfo).
@@ -64,7 +65,10 @@ struct MapInfo {
   long long neighbour_links = 0;
   long long loop_closure_links = 0;
   ImageIndex last_image = kNoImage;  // the last image a checkpoint holds (--resume goes on after)
+  // As edited (loop_closure_edits.h): the detected ones less those rejected, with those added.
   std::vector<MapLoopClosure> loop_closures;
+  long long edits = 0;  // edits in force (not undone)
+  long long rejected_loop_closures = 0;  // detected, then rejected by an edit
   // Empty for a map made before memloop recorded images (format 4 without the images table).
   std::vector<MapSession> sessions;
   std::vector<std::pair<std::string, std::string>> parameters;  // name, value as stored

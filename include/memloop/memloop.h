@@ -9,6 +9,7 @@
 #include "memloop/errors.h"
 #include "memloop/feature_extractor.h"
 #include "memloop/image_sequence.h"
+#include "memloop/loop_closure_edits.h"
 #include "memloop/map_info.h"
 #include "memloop/options.h"
 #include "memloop/params.h"

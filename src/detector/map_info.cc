@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "detector/checkpoint.h"
+#include "memloop/loop_closure_edits.h"
 #include "storage/ltm_database.h"
 
 namespace memloop {
@@ -47,7 +48,21 @@ MapInfo InspectMap(const std::string& path) {
   info.last_image = static_cast<ImageIndex>(
       database.QueryNumber("SELECT coalesce(max(image), -1) FROM location_images"));
   if (checkpoint_problem.empty()) AddCheckpoint(database, info);  // else what LTM holds alone
-  info.loop_closures = database.ReadLoopClosures();
+  const std::vector<MapLoopClosure> detected = database.ReadLoopClosures();
+  const std::vector<LoopClosureEdit> edits = database.ReadEdits();
+  info.loop_closures = EditedLoopClosures(detected, edits);
+  long long added = 0;
+  for (MapLoopClosure& loop : info.loop_closures) {
+    if (loop.added_by_edit == 0) continue;
+    ++added;
+    loop.query_location = database.ReadHolder(loop.query_image);
+    loop.match_location = database.ReadHolder(loop.match_image);
+  }
+  info.rejected_loop_closures =
+      static_cast<long long>(detected.size() + added - info.loop_closures.size());
+  info.edits = std::count_if(edits.begin(), edits.end(), [](const LoopClosureEdit& edit) {
+    return !edit.undone && edit.action != EditAction::kUndo;
+  });
   info.sessions = database.ReadSessions();
   for (auto& [key, value] : database.ReadInfoWithPrefix("param.")) {
     info.parameters.emplace_back(key.substr(6), value);

@@ -5,6 +5,7 @@
 #include "detector/loop_geometry.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
+#include "memloop/loop_closure_edits.h"
 #include "storage/ltm_database.h"
 
 namespace memloop {
@@ -49,7 +50,9 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
     return unknown;
   };
   std::vector<ExportedLoopClosure> loops;
-  for (const MapLoopClosure& loop : database.ReadLoopClosures()) {
+  // As edited: the rejected ones left out, those added by hand in (their pose estimated below).
+  for (const MapLoopClosure& loop :
+       EditedLoopClosures(database.ReadLoopClosures(), database.ReadEdits())) {
     ExportedLoopClosure exported{loop, image_of(loop.query_image), image_of(loop.match_image), {}};
     const auto query = holder.find(loop.query_image);
     const auto match = holder.find(loop.match_image);

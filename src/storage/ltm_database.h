@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "detector/location.h"
+#include "memloop/loop_closure_edits.h"
 #include "memloop/map_info.h"
 #include "storage/sqlite_statement.h"
 
@@ -115,6 +116,14 @@ class LtmDatabase {
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
+  // Corrections of the loop closures (loop_closure_edits.h), in the order made; none before the first.
+  void CreateEditTable();
+  long long WriteEdit(const LoopClosureEdit& edit);  // its id
+  std::vector<LoopClosureEdit> ReadEdits();
+  // The LTM location that holds `image` now, kNoLocation when none does.
+  LocationId ReadHolder(ImageIndex image);
+  // Every LTM image with the location that holds it, by image.
+  std::vector<std::pair<ImageIndex, LocationId>> ReadHolders();
   std::string ReadInfo(const std::string& key);
   // Every info row whose key starts with `prefix`, sorted by key.
   std::vector<std::pair<std::string, std::string>> ReadInfoWithPrefix(const std::string& prefix);

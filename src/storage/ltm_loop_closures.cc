@@ -50,10 +50,12 @@ std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
                     " FROM loop_closures ORDER BY rowid");
   std::vector<LoopClosureRecord> records;
   while (query.Step()) {
-    LoopClosureRecord record{static_cast<ImageIndex>(query.Int(0)),
-                             static_cast<ImageIndex>(query.Int(1)),
-                             static_cast<LocationId>(query.Int(2)),
-                             static_cast<LocationId>(query.Int(3)), query.Double(4)};
+    LoopClosureRecord record;
+    record.query_image = static_cast<ImageIndex>(query.Int(0));
+    record.match_image = static_cast<ImageIndex>(query.Int(1));
+    record.query_location = static_cast<LocationId>(query.Int(2));
+    record.match_location = static_cast<LocationId>(query.Int(3));
+    record.probability = query.Double(4);
     if (*has_poses_ && !query.IsNull(5)) {
       LoopClosurePose& pose = record.pose;
       pose.estimated = true;

@@ -49,6 +49,7 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
         {{"query", ImageJson(loop.query, loop.loop.query_location)},
          {"match", ImageJson(loop.match, loop.loop.match_location)},
          {"hypothesis_value", loop.loop.probability},
+         {"added_by_edit", loop.loop.added_by_edit},  // 0: detected (memloop view's edits)
          {"views", {g.query_view, g.match_view}},
          {"correspondences", g.correspondences},
          {"inliers", inliers},

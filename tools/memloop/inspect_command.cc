@@ -17,7 +17,8 @@ nlohmann::json Json(const MapInfo& info) {
                      {"match_image", loop.match_image},
                      {"query_location", loop.query_location},
                      {"match_location", loop.match_location},
-                     {"probability", loop.probability}});
+                     {"probability", loop.probability},
+                     {"added_by_edit", loop.added_by_edit}});
   }
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [name, value] : info.parameters) parameters[name] = value;
@@ -48,6 +49,8 @@ nlohmann::json Json(const MapInfo& info) {
           {"loop_closure_links", info.loop_closure_links},
           {"sessions", sessions},
           {"loop_closures", loops},
+          {"edits", info.edits},
+          {"rejected_loop_closures", info.rejected_loop_closures},
           {"parameters", parameters}};
 }
 
@@ -78,10 +81,20 @@ void PrintText(const MapInfo& info) {
     }
     std::printf("\n");
   }
-  std::printf("loop closures: %zu\n", info.loop_closures.size());
+  std::printf("loop closures: %zu", info.loop_closures.size());
+  if (info.edits > 0) {
+    std::printf(" (as edited: %lld edits, %lld detected ones rejected)", info.edits,
+                info.rejected_loop_closures);
+  }
+  std::printf("\n");
   for (const MapLoopClosure& loop : info.loop_closures) {
-    std::printf("  image %d -> image %d (location %d -> %d), p=%.3f\n", loop.query_image,
-                loop.match_image, loop.query_location, loop.match_location, loop.probability);
+    std::printf("  image %d -> image %d (location %d -> %d), ", loop.query_image, loop.match_image,
+                loop.query_location, loop.match_location);
+    if (loop.added_by_edit > 0) {
+      std::printf("added by edit %lld\n", loop.added_by_edit);
+    } else {
+      std::printf("p=%.3f\n", loop.probability);
+    }
   }
   std::printf("parameters:\n");
   for (const auto& [name, value] : info.parameters) {

@@ -1,5 +1,5 @@
 // memloop: real-time appearance-based loop closure detection with memory management.
-// Subcommands: run, demo, generate, eval, report, inspect, export, params. Exit codes: 0 success; 1
+// Subcommands: run, demo, generate, eval, report, inspect, export, view, params. Exit codes: 0 success; 1
 // an error of input, map or output ("memloop: error: ..." names the file); 2 a command-line usage
 // error; 130 / 143 a run stopped by SIGINT / SIGTERM (results and map complete up to the last
 // image).
@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   memloop::cli::AddReportCommand(app);
   memloop::cli::AddInspectCommand(app);
   memloop::cli::AddExportCommand(app);
+  memloop::cli::AddViewCommand(app);
   // CLI11 says only "A subcommand is required" for an unknown first word: name it.
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; })
