@@ -115,6 +115,11 @@ TEST_F(ViewTest, ApiShowsWhatInspectReads) {
   EXPECT_EQ(summary["sessions"].size(), 1u);
   EXPECT_EQ(summary["read_only"], false);
   EXPECT_EQ(summary["parameters"]["camera.fx"], "300");
+  // Opened without reading every page (MapCheck::kQuick): what is not counted is said.
+  EXPECT_EQ(summary["integrity"], "not checked here (memloop inspect checks it)");
+  EXPECT_EQ(summary["words"], -1);
+  EXPECT_EQ(info.integrity, "ok");
+  EXPECT_GT(info.words, 0);
 
   // A page of a session's images, each with the location that holds it.
   const json page = Get("/api/images?session=0&offset=120&limit=50");

@@ -29,18 +29,23 @@ void AddCheckpoint(LtmDatabase& database, MapInfo& info) {
 
 }  // namespace
 
-MapInfo InspectMap(const std::string& path) {
-  LtmDatabase database(path, LtmDatabase::Mode::kRead);  // checks identity and quick_check
+MapInfo InspectMap(const std::string& path, MapCheck check) {
+  // kRead checks identity and runs quick_check; kPeek checks identity only.
+  LtmDatabase database(
+      path, check == MapCheck::kFull ? LtmDatabase::Mode::kRead : LtmDatabase::Mode::kPeek);
   MapInfo info;
   info.path = path;
   info.writer_pid = MapWriterProcess(path);
   database.Begin();  // one snapshot: a writer's later commits are not half seen
   info.format_version = database.format_version();
-  const std::string checkpoint_problem = CheckpointProblem(database);
-  info.integrity =
-      checkpoint_problem.empty() ? "ok" : "resume checkpoint damaged (" + checkpoint_problem + ")";
+  const std::string checkpoint_problem =
+      check == MapCheck::kFull ? CheckpointProblem(database) : std::string();
+  info.integrity = !checkpoint_problem.empty()
+                       ? "resume checkpoint damaged (" + checkpoint_problem + ")"
+                   : check == MapCheck::kFull ? "ok"
+                                              : "not checked here (memloop inspect checks it)";
   info.locations = database.CountLocations();
-  info.words = database.CountWords();
+  info.words = check == MapCheck::kFull ? database.CountWords() : -1;  // a scan of every word
   info.whole_images = database.CountWholeImages();
   info.neighbour_links = database.QueryNumber("SELECT count(*) FROM links WHERE type=0");
   info.loop_closure_links = database.QueryNumber("SELECT count(*) FROM links WHERE type=1");

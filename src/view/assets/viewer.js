@@ -89,7 +89,7 @@ async function mapPage() {
   let html = `<h1>${esc(s.path)}</h1><table>
     <tr><th>images</th><td>${s.images}</td></tr>
     <tr><th>locations</th><td>${s.ltm_locations} in LTM, ${s.checkpoint_locations} in STM/WM at the last checkpoint</td></tr>
-    <tr><th>words</th><td>${s.words}</td></tr>
+    <tr><th>words</th><td>${s.words >= 0 ? s.words : "not counted here (memloop inspect counts them)"}</td></tr>
     <tr><th>links</th><td>${s.neighbour_links} neighbour, ${s.loop_closure_links} loop closure</td></tr>
     <tr><th>loop closures</th><td><a href="#/loops">${s.loop_closures}</a> (${s.detected_loop_closures} detected, ${s.rejected_loop_closures} rejected, ${s.edits} edits)</td></tr>
     <tr><th>integrity</th><td>${esc(s.integrity)}</td></tr></table>
