@@ -9,9 +9,11 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <thread>
 
 #include "cli_helpers.h"
+#include "memloop/errors.h"
 #include "memloop/loop_closure_edits.h"
 #include "memloop/map_export.h"
 #include "memloop/map_info.h"
@@ -285,6 +287,61 @@ TEST_F(ViewTest, ResumeKeepsTheEdits) {
   EXPECT_NE(inspect.output.find("(as edited: 1 edits, 1 detected ones rejected)"),
             std::string::npos)
       << inspect.output;
+}
+
+// --poses: each image at its pose in a TUM trajectory, matched by time stamp; a malformed
+// trajectory is refused naming its line.
+TEST_F(ViewTest, PositionsFromATrajectoryOfTheImagesTimeStamps) {
+  const std::string walk = dir_.File("walk");
+  ASSERT_EQ(Memloop("generate " + walk + " --layout tum").exit_code, 0);
+  // The first 40 images of the TUM folder (rgb.txt's 3 comment lines, then one line an image).
+  const std::vector<std::string> lines = [&] {
+    std::vector<std::string> all;
+    std::ifstream in(walk + "/rgb.txt");
+    for (std::string line; std::getline(in, line) && all.size() < 43;) all.push_back(line);
+    return all;
+  }();
+  {
+    std::ofstream out(walk + "/rgb.txt");
+    for (const std::string& line : lines) out << line << "\n";
+  }
+  const std::string map = dir_.File("walk.db");
+  ASSERT_EQ(Memloop("run " + walk + " --db " + map + " --set memory.time_limit_ms=0").exit_code, 0);
+  ViewServerOptions options;
+  options.map = map;
+  options.poses = walk + "/groundtruth.txt";
+  server_ = std::make_unique<ViewServer>(options);
+  const int port = server_->Bind();
+  thread_ = std::thread([this] { server_->Run(); });
+  client_ = std::make_unique<httplib::Client>("127.0.0.1", port);
+  const json positions = Get("/api/positions")["positions"];
+  ASSERT_EQ(positions.size(), 40u);
+  // Image 0 is at the trajectory's first pose (its time stamp, 1000.0).
+  std::ifstream truth(walk + "/groundtruth.txt");
+  std::string line;
+  for (int i = 0; i < 4; ++i) std::getline(truth, line);
+  std::istringstream first(line);
+  double stamp = 0, x = 0, y = 0, z = 0;
+  first >> stamp >> x >> y >> z;
+  EXPECT_EQ(positions[0][0], 0);
+  EXPECT_DOUBLE_EQ(positions[0][1].get<double>(), x);
+  EXPECT_DOUBLE_EQ(positions[0][3].get<double>(), z);
+  StopServer();
+
+  std::ofstream(dir_.File("bad.txt")) << "1000.0 1 2 3 0 0 0\n";
+  options.poses = dir_.File("bad.txt");
+  try {
+    ViewServer refused(options);
+    ADD_FAILURE() << "a malformed trajectory was taken";
+  } catch (const InputError& error) {
+    EXPECT_EQ(
+        std::string(error.what()),
+        dir_.File("bad.txt") + ": line 1: expected 'time tx ty tz qx qy qz qw' (a TUM trajectory)");
+  }
+  // Without --poses the page says how to get the graph.
+  StartServer();
+  EXPECT_EQ(Get("/api/positions", 404)["error"],
+            "no positions: start memloop view with --poses TRAJECTORY");
 }
 
 TEST_F(ViewTest, CommandRefusesBadInputInOneLine) {

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """`memloop view` in headless Chromium, driven as a user would through the DevTools protocol:
-open the address memloop view printed (with its token), open a loop closure, reject it, reload
+open the address memloop view printed (with its token), see the graph by position, open a loop
+closure, reject it, reload
 and see it rejected, then check that `memloop export` no longer lists it; a request without the
 token is refused. Exits 77 (skipped) without chromium or python3-websocket (make test installs
 both). MEMLOOP_VIEWER_SCREENSHOT=FILE saves the loop closures page (docs/viewer.png)."""
@@ -87,17 +88,22 @@ def main():
     view = None
     browser = None
     try:
-        route = os.path.join(folder, "route")
-        subprocess.run([CLI, "generate", route], check=True, stdout=subprocess.DEVNULL)
-        for i in range(131, 400):  # the first lap and its revisit: 130 images
-            path = os.path.join(route, "images", f"{i}.png")
-            if os.path.exists(path):
-                os.remove(path)
+        # The generated walk as a TUM folder (time stamps, a true trajectory): its first lap and
+        # the revisit, 130 images (rgb.txt's 3 comment lines, then a line an image).
+        route = os.path.join(folder, "walk")
+        subprocess.run([CLI, "generate", route, "--layout", "tum"], check=True,
+                       stdout=subprocess.DEVNULL)
+        rgb = os.path.join(route, "rgb.txt")
+        with open(rgb) as listing:
+            lines = listing.readlines()[:133]
+        with open(rgb, "w") as listing:
+            listing.writelines(lines)
         map_path = os.path.join(folder, "map.db")
-        subprocess.run([CLI, "run", os.path.join(route, "images"), "--db", map_path,
-                        "--set", "memory.time_limit_ms=0"], check=True, stdout=subprocess.DEVNULL)
+        subprocess.run([CLI, "run", route, "--db", map_path, "--set", "memory.time_limit_ms=0"],
+                       check=True, stdout=subprocess.DEVNULL)
 
-        view = subprocess.Popen([CLI, "view", map_path, "--images", os.path.join(route, "images")],
+        view = subprocess.Popen([CLI, "view", map_path, "--images", route, "--poses",
+                                 os.path.join(route, "groundtruth.txt")],
                                 stdout=subprocess.PIPE, text=True)
         address = view.stdout.readline().split()[2]  # "memloop view: http://... serves MAP"
         with_token = view.stdout.readline().split()[-1]  # "  to edit ... open URL#token=T"
@@ -124,7 +130,7 @@ def main():
             "document.querySelectorAll('tr.loop').length") > 0)
         # Each row shows the pair's file names and thumbnails.
         first_row = browser.eval("document.querySelector('tr.loop').textContent")
-        assert ".png" in first_row, first_row
+        assert "rgb/" in first_row and ".png" in first_row, first_row
         wait_for("the thumbnails", lambda: browser.eval(
             "[...document.querySelectorAll('tr.loop img')].slice(0, 4)"
             ".every(i => i.complete && i.naturalWidth === 160)"))
@@ -133,6 +139,17 @@ def main():
             shot = browser.call("Page.captureScreenshot", format="png")
             with open(os.environ["MEMLOOP_VIEWER_SCREENSHOT"], "wb") as out:
                 out.write(base64.b64decode(shot["data"]))
+
+        # The graph by position: the trajectory and its loop closures drawn.
+        browser.eval("location.hash = '#/graph'")
+        wait_for("the graph", lambda: browser.eval(
+            "(() => { const c = document.getElementById('graph'); if (!c) return false;"
+            " const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;"
+            " let green = 0; for (let i = 0; i < d.length; i += 4)"
+            " if (d[i + 1] > 90 && d[i] < 60 && d[i + 3] > 0) green++; return green > 20; })()"))
+        browser.eval("location.hash = '#/loops'")
+        wait_for("the loop closures again", lambda: browser.eval(
+            "document.querySelectorAll('tr.loop').length") > 0)
 
         # Open the first loop closure, see its two images, reject it.
         browser.eval("document.querySelector('tr.loop a').click()")

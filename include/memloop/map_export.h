@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ ExportFormat ParseExportFormat(const std::string& name);
 using PoseArray = std::array<double, 7>;
 // "tx,ty,tz,qx,qy,qz,qw"; ParameterError naming `option` otherwise.
 PoseArray ParsePose(const std::string& text, const std::string& option);
+
+// The pose of each of `images` whose time stamp a TUM trajectory ("time tx ty tz qx qy qz qw"
+// lines, '#' comments) holds within 10 ms, by image index. Throws InputError naming the file: not
+// readable, a malformed line, or no pose at the time of any image.
+std::map<ImageIndex, PoseArray> TrajectoryAtImages(const std::vector<MapImage>& images,
+                                                   const std::string& trajectory);
 
 // What turns loop-closure edges into a pose graph g2o loads as it is (docs/export.md).
 struct PoseGraphOptions {

@@ -88,27 +88,11 @@ std::map<double, PoseArray> ReadTrajectory(const std::string& path) {
   return poses;
 }
 
-// The trajectory pose of each image whose time stamp it holds, by image index.
 std::map<ImageIndex, Rigid> Vertices(const std::vector<MapImage>& images,
                                      const std::string& trajectory) {
-  const std::map<double, PoseArray> poses = ReadTrajectory(trajectory);
   std::map<ImageIndex, Rigid> vertices;
-  for (const MapImage& image : images) {
-    if (!HasTimestamp(image.timestamp)) continue;
-    auto after = poses.lower_bound(image.timestamp);
-    auto nearest = after;
-    if (after == poses.end() ||
-        (after != poses.begin() &&
-         image.timestamp - std::prev(after)->first < after->first - image.timestamp)) {
-      nearest = std::prev(after);
-    }
-    if (std::abs(nearest->first - image.timestamp) <= kStampTolerance) {
-      vertices[image.index] = Rigid::Of(nearest->second);
-    }
-  }
-  if (vertices.empty()) {
-    throw InputError(trajectory,
-                     "holds no pose at the time stamp of any of the map's images (within 10 ms)");
+  for (const auto& [image, pose] : TrajectoryAtImages(images, trajectory)) {
+    vertices[image] = Rigid::Of(pose);
   }
   return vertices;
 }
@@ -187,6 +171,30 @@ void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out
 }
 
 }  // namespace
+
+std::map<ImageIndex, PoseArray> TrajectoryAtImages(const std::vector<MapImage>& images,
+                                                   const std::string& trajectory) {
+  const std::map<double, PoseArray> poses = ReadTrajectory(trajectory);
+  std::map<ImageIndex, PoseArray> at_images;
+  for (const MapImage& image : images) {
+    if (!HasTimestamp(image.timestamp)) continue;
+    auto after = poses.lower_bound(image.timestamp);
+    auto nearest = after;
+    if (after == poses.end() ||
+        (after != poses.begin() &&
+         image.timestamp - std::prev(after)->first < after->first - image.timestamp)) {
+      nearest = std::prev(after);
+    }
+    if (std::abs(nearest->first - image.timestamp) <= kStampTolerance) {
+      at_images[image.index] = nearest->second;
+    }
+  }
+  if (at_images.empty()) {
+    throw InputError(trajectory,
+                     "holds no pose at the time stamp of any of the map's images (within 10 ms)");
+  }
+  return at_images;
+}
 
 void ParseOdometrySigma(const std::string& text, PoseGraphOptions& graph) {
   std::stringstream fields(text);

@@ -102,6 +102,11 @@ std::optional<MapImage> MapView::Image(ImageIndex index) const {
   return *found;
 }
 
+std::vector<MapImage> MapView::AllImages() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return loaded_.images;
+}
+
 json MapView::ImageJson(const MapImage& image) const {
   const auto holder = loaded_.holder.find(image.index);
   return {{"index", image.index},

@@ -37,6 +37,7 @@ class MapView {
   nlohmann::json Find(const std::string& text) const;
 
   std::optional<MapImage> Image(ImageIndex index) const;
+  std::vector<MapImage> AllImages() const;
 
   // After an edit: the map is read again.
   void Reload();

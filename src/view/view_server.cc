@@ -7,6 +7,7 @@
 #include <random>
 
 #include "memloop/errors.h"
+#include "memloop/map_export.h"
 #include "view/view_assets.h"
 
 namespace memloop {
@@ -69,6 +70,11 @@ ViewServer::ViewServer(ViewServerOptions options)
       view_(options_.map),
       images_(options_.images),
       server_(std::make_unique<httplib::Server>()) {
+  if (!options_.poses.empty()) {
+    for (const auto& [image, pose] : TrajectoryAtImages(view_.AllImages(), options_.poses)) {
+      positions_.push_back({static_cast<double>(image), pose[0], pose[1], pose[2]});
+    }
+  }
   if (options_.token.empty()) options_.token = RandomToken();
   if (options_.who.empty()) options_.who = LoginName();
   // SO_REUSEADDR only: httplib's default SO_REUSEPORT would let a second server take a port in
@@ -167,6 +173,13 @@ void ViewServer::Route() {
         view_.ReloadIfChanged();
         SendJson(response, view_.LoopClosures(std::max(0LL, Number(request, "offset", 0)), limit));
       });
+  server.Get("/api/positions", [this](const httplib::Request&, httplib::Response& response) {
+    if (positions_.empty()) {
+      SendError(response, 404, "no positions: start memloop view with --poses TRAJECTORY");
+    } else {
+      SendJson(response, {{"positions", positions_}});
+    }
+  });
   server.Get("/api/edits", [this](const httplib::Request&, httplib::Response& response) {
     SendJson(response, view_.Edits());
   });

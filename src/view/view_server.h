@@ -15,6 +15,7 @@
 //                                   409 when read-only, 400 naming what is wrong
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 
@@ -30,6 +31,7 @@ namespace memloop {
 struct ViewServerOptions {
   std::string map;
   std::string images;  // folder of the map's images ("" for none)
+  std::string poses;   // TUM trajectory of the images' time stamps ("" for none)
   std::string listen = "127.0.0.1";
   int port = 0;  // 0: any free port
   bool read_only = false;
@@ -62,6 +64,7 @@ class ViewServer {
   ViewServerOptions options_;
   MapView view_;
   ImageSource images_;
+  std::vector<std::array<double, 4>> positions_;  // image, x, y, z
   std::unique_ptr<httplib::Server> server_;
   int port_ = 0;
 };

@@ -22,6 +22,9 @@ void AddViewCommand(CLI::App& app) {
   view->add_option("--images", options->images,
                    "Folder of the images the map was made from (the input of its run, or a data "
                    "set folder with images/): thumbnails and images on its pages");
+  view->add_option("--poses", options->poses,
+                   "A TUM trajectory (time tx ty tz qx qy qz qw) of the images' time stamps: the "
+                   "map drawn by position, its loop closures between them");
   view->add_option("--port", options->port, "Port to listen on; default: a free one")
       ->check(CLI::Range(0, 65535));
   view->add_option("--listen", options->listen,

@@ -1,5 +1,5 @@
 // memloop view: the page. Plain JavaScript, no library: every view is a function of the address
-// (#/loops, #/loop/N, #/matrix, #/session/S, #/location/ID, #/edits) that reads the server's JSON
+// (#/loops, #/loop/N, #/matrix, #/graph, #/session/S, #/location/ID, #/edits) that reads the server's JSON
 // API and writes the page. Edits send the token memloop view printed (X-Memloop-Token).
 "use strict";
 
@@ -171,6 +171,67 @@ function drawMatrix(loops) {
   };
 }
 
+async function graphPage() {
+  let positions;
+  try {
+    positions = (await api("/api/positions")).positions;
+  } catch (error) {
+    return `<h1>Graph</h1><p>${esc(error.message)}: a TUM file (time tx ty tz qx qy qz qw) of the
+      images' time stamps, odometry or ground truth. The <a href="#/matrix">matrix</a> shows the loop
+      closures by time meanwhile.</p>`;
+  }
+  const page = await api(`/api/loop_closures?offset=0&limit=100000`);
+  setTimeout(() => drawGraph(positions, page.loop_closures), 0);
+  return `<h1>Graph: ${positions.length} images by position</h1><p>Seen from above the two axes
+    along which the trajectory spreads most; loop closures join their two images (green detected,
+    blue added, red rejected). Click a loop closure to see its images.</p>
+    <canvas id="graph" width="800" height="640"></canvas>`;
+}
+
+function drawGraph(positions, loops) {
+  const canvas = document.getElementById("graph");
+  if (!canvas) return;
+  const at = new Map(positions.map(p => [p[0], p]));
+  const spread = [1, 2, 3].map(axis => {
+    const values = positions.map(p => p[axis]);
+    return {axis, low: Math.min(...values), high: Math.max(...values)};
+  }).sort((a, b) => (b.high - b.low) - (a.high - a.low));
+  const [u, v] = spread;
+  const scale = Math.min((canvas.width - 40) / Math.max(u.high - u.low, 1e-9),
+                         (canvas.height - 40) / Math.max(v.high - v.low, 1e-9));
+  const xy = p => [20 + (p[u.axis] - u.low) * scale, canvas.height - 20 - (p[v.axis] - v.low) * scale];
+  const context = canvas.getContext("2d");
+  context.strokeStyle = "#999";
+  context.beginPath();
+  positions.forEach((p, i) => {
+    const [x, y] = xy(p);
+    if (i > 0 && p[0] === positions[i - 1][0] + 1) context.lineTo(x, y); else context.moveTo(x, y);
+  });
+  context.stroke();
+  const colour = {detected: "#1b6e2f", added: "#1d5fa8", rejected: "#a61b1b"};
+  const drawn = [];
+  for (const loop of loops) {
+    const a = at.get(loop.query_image), b = at.get(loop.match_image);
+    if (!a || !b) continue;
+    const [x1, y1] = xy(a), [x2, y2] = xy(b);
+    context.strokeStyle = colour[loop.state];
+    context.beginPath(); context.moveTo(x1, y1); context.lineTo(x2, y2); context.stroke();
+    context.fillStyle = colour[loop.state];
+    context.fillRect(x1 - 2, y1 - 2, 4, 4);
+    drawn.push({loop, x: (x1 + x2) / 2, y: (y1 + y2) / 2});
+  }
+  canvas.onclick = event => {
+    const box = canvas.getBoundingClientRect();
+    const x = event.clientX - box.left, y = event.clientY - box.top;
+    let best = null, distance = 12;
+    for (const d of drawn) {
+      const far = Math.hypot(d.x - x, d.y - y);
+      if (far < distance) { best = d.loop; distance = far; }
+    }
+    if (best) location.hash = `#/loop/${best.n}`;
+  };
+}
+
 async function sessionPage(session, offset) {
   const page = await api(`/api/images?session=${session}&offset=${offset}&limit=${IMAGES_PAGE}`);
   let html = `<h1>Session ${session}</h1>${chooser()}${pager(`#/session/${session}`, offset, page.total, IMAGES_PAGE)}<div class="grid">`;
@@ -229,6 +290,7 @@ async function route() {
     if (parts[0] === "loops") html = await loopsPage(offset);
     else if (parts[0] === "loop") html = await loopPage(Number(parts[1]));
     else if (parts[0] === "matrix") html = await matrixPage();
+    else if (parts[0] === "graph") html = await graphPage();
     else if (parts[0] === "session") html = await sessionPage(Number(parts[1]), offset);
     else if (parts[0] === "location") html = await locationPage(Number(parts[1]));
     else if (parts[0] === "edits") html = await editsPage();
