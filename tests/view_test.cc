@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -342,6 +343,19 @@ TEST_F(ViewTest, PositionsFromATrajectoryOfTheImagesTimeStamps) {
   StartServer();
   EXPECT_EQ(Get("/api/positions", 404)["error"],
             "no positions: start memloop view with --poses TRAJECTORY");
+}
+
+// A stop that comes before the server runs (Ctrl-C at start) still ends it.
+TEST_F(ViewTest, StopBeforeRunEndsTheRun) {
+  ViewServerOptions options;
+  options.map = map_;
+  ViewServer server(options);
+  server.Bind();
+  server.Stop();
+  auto run = std::async(std::launch::async, [&server] { server.Run(); });
+  const bool ended = run.wait_for(std::chrono::seconds(30)) == std::future_status::ready;
+  EXPECT_TRUE(ended) << "Run() went on after Stop()";
+  if (!ended) server.Stop();  // it runs now: this stops it
 }
 
 TEST_F(ViewTest, CommandRefusesBadInputInOneLine) {

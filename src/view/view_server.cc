@@ -3,8 +3,10 @@
 #include <httplib.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <random>
+#include <thread>
 
 #include "memloop/errors.h"
 #include "memloop/map_export.h"
@@ -104,9 +106,22 @@ int ViewServer::Bind() {
   return port_;
 }
 
-void ViewServer::Run() { server_->listen_after_bind(); }
+void ViewServer::Run() {
+  run_started_ = true;
+  if (!stop_requested_) server_->listen_after_bind();
+  run_ended_ = true;
+}
 
-void ViewServer::Stop() { server_->stop(); }
+// httplib's stop() does nothing before its accept loop runs: a Stop() that comes first (a Ctrl-C
+// right at start) waits for the loop, or keeps Run() from starting it.
+void ViewServer::Stop() {
+  stop_requested_ = true;
+  for (int waited_ms = 0;
+       run_started_ && !run_ended_ && !server_->is_running() && waited_ms < 10000; ++waited_ms) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  server_->stop();
+}
 
 std::string ViewServer::Address() const {
   const bool v6 = options_.listen.find(':') != std::string::npos;

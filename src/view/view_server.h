@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -67,6 +68,9 @@ class ViewServer {
   std::vector<std::array<double, 4>> positions_;  // image, x, y, z
   std::unique_ptr<httplib::Server> server_;
   int port_ = 0;
+  std::atomic<bool> run_started_{false};
+  std::atomic<bool> stop_requested_{false};
+  std::atomic<bool> run_ended_{false};
 };
 
 }  // namespace memloop
