@@ -93,12 +93,17 @@ void MapView::Reload() {
   loaded_state_ = state;
 }
 
-std::optional<MapImage> MapView::Image(ImageIndex index) const {
-  const std::lock_guard<std::mutex> lock(mutex_);
+const MapImage* MapView::FindImage(ImageIndex index) const {
   const auto found = std::lower_bound(
       loaded_.images.begin(), loaded_.images.end(), index,
       [](const MapImage& image, ImageIndex wanted) { return image.index < wanted; });
-  if (found == loaded_.images.end() || found->index != index) return std::nullopt;
+  return found != loaded_.images.end() && found->index == index ? &*found : nullptr;
+}
+
+std::optional<MapImage> MapView::Image(ImageIndex index) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const MapImage* found = FindImage(index);
+  if (found == nullptr) return std::nullopt;
   return *found;
 }
 
@@ -188,9 +193,7 @@ json MapView::Location(LocationId id) const {
   const std::lock_guard<std::mutex> lock(mutex_);
   json images = json::array();
   for (ImageIndex index : location->images) {
-    const auto found = std::find_if(loaded_.images.begin(), loaded_.images.end(),
-                                    [&](const MapImage& image) { return image.index == index; });
-    if (found != loaded_.images.end()) {
+    if (const MapImage* found = FindImage(index)) {
       images.push_back(ImageJson(*found));
     } else {
       images.push_back({{"index", index}, {"name", ""}, {"location", id}});
@@ -219,10 +222,8 @@ json MapView::Location(LocationId id) const {
 
 json MapView::LoopJson(const MapLoopClosure& loop, const std::string& state, long long edit) const {
   const auto name = [&](ImageIndex index) {
-    const auto found = std::lower_bound(
-        loaded_.images.begin(), loaded_.images.end(), index,
-        [](const MapImage& image, ImageIndex wanted) { return image.index < wanted; });
-    return found != loaded_.images.end() && found->index == index ? found->name : std::string();
+    const MapImage* found = FindImage(index);
+    return found != nullptr ? found->name : std::string();
   };
   // The location that holds the image now (Rehearsal and loop closures merge locations after
   // the loop closure was recorded), else the one recorded then.

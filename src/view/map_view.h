@@ -53,6 +53,7 @@ class MapView {
     std::vector<MapLoopClosure> detected;  // as the detector recorded them
   };
   Loaded Load() const;
+  const MapImage* FindImage(ImageIndex index) const;  // in loaded_, by index; mutex_ held
   std::string FileState() const;  // sizes and modification times of the map and its log
   nlohmann::json ImageJson(const MapImage& image) const;
   nlohmann::json LoopJson(const MapLoopClosure& loop, const std::string& state,
