@@ -6,12 +6,12 @@ JOBS ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libopencv-dev libflann-dev libboost-dev liblz4-dev libsqlite3-dev \
             libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libgtest-dev libgmock-dev \
             libbenchmark-dev libmatio-dev gnuplot-nox pybind11-dev python3-dev python3-numpy \
-            librosbag-storage-dev libsensor-msgs-dev libcpp-httplib-dev
+            librosbag-storage-dev libsensor-msgs-dev libcpp-httplib-dev libpq-dev
 # Only the tests need a browser (they open `memloop report` and `memloop view` in headless
 # Chromium; python3-websocket drives the viewer through its DevTools protocol), pytest and
 # cv2 (the Python module's tests read images as a user's script does), Ceres (the pose-graph
-# example the tests build and run).
-TEST_PACKAGES := chromium python3-websocket python3-pytest python3-opencv libceres-dev
+# example the tests build and run), PostgreSQL's server (the fleet's tests start their own).
+TEST_PACKAGES := chromium python3-websocket python3-pytest python3-opencv libceres-dev postgresql-15
 # The ROS 1 node (ros/, docs/ros.md) and its tests' roscore: Debian's ROS packages. Without
 # them everything else builds; the node is not.
 ROS_PACKAGES := libroscpp-dev libimage-transport-dev libmessage-filters-dev libdiagnostic-msgs-dev \

@@ -30,7 +30,9 @@ std::string Pair(ImageIndex query, ImageIndex match) {
 class EditSession {
  public:
   explicit EditSession(const std::string& path)
-      : lock_(path), database_(path, LtmDatabase::Mode::kAttach) {
+      : lock_(path),
+        // On a server, kOpen takes the robot's lock there, as lock_ does for a file.
+        database_(path, IsServerMap(path) ? LtmDatabase::Mode::kOpen : LtmDatabase::Mode::kAttach) {
     lock_.Adopt();
     database_.CreateEditTable();
     database_.Begin();

@@ -13,196 +13,39 @@
 #include "memloop/errors.h"
 #include "storage/map_integrity.h"
 #include "storage/map_writer_lock.h"
+#include "storage/postgres_connection.h"
 
 namespace memloop {
 namespace {
 
-namespace fs = std::filesystem;
-
 constexpr int kLinkNeighbour = 0;
 constexpr int kLinkLoopClosure = 1;
 
-off_t FileSize(const std::string& path) {
-  struct stat info {};
-  return stat(path.c_str(), &info) == 0 ? info.st_size : 0;
-}
-
-// A map's rows may still be only in its write-ahead log (a run killed before SQLite folded it).
-bool HoldsData(const std::string& path) {
-  return FileSize(path) > 0 || FileSize(path + "-wal") > 0;
-}
-
-// A file SQLite may read alone, leaving nothing beside it: no write-ahead log with content
-// (a map closed cleanly), no rollback journal, and no process writing it.
-bool ReadableAlone(const std::string& path) {
-  return FileSize(path + "-wal") == 0 && !fs::exists(path + "-journal") && !MapOpenToWrite(path);
-}
-
-// What cannot be a map file at all, said before SQLite says "disk I/O error" or "unable to open".
-void CheckIsFileOrAbsent(const std::string& path, LtmDatabase::Mode mode) {
-  struct stat info {};
-  if (stat(path.c_str(), &info) == 0) {
-    if (S_ISDIR(info.st_mode)) throw DatabaseError(path, "is a folder; a map is a file");
-    if (!S_ISREG(info.st_mode)) {
-      throw DatabaseError(path,
-                          "is not a regular file (a device, pipe or socket); a map is a file");
-    }
-    return;
-  }
-  if (mode != LtmDatabase::Mode::kCreate) throw DatabaseError(path, "no such file");
-  const std::string folder = fs::path(path).parent_path().string();
-  if (!folder.empty() && !fs::is_directory(folder)) {
-    throw DatabaseError(path, "cannot create the map: the folder " + folder + " does not exist");
-  }
-}
-
-uint32_t BigEndian(const unsigned char* bytes, int count) {
-  uint32_t value = 0;
-  for (int i = 0; i < count; ++i) value = value << 8 | bytes[i];
-  return value;
-}
-
-// An SQLite file shorter than its header says (a copy or download cut short): said as such, not
-// as the "malformed" SQLite would report. The header's page count is valid when its
-// version-valid-for number equals its change counter (https://sqlite.org/fileformat.html).
-void CheckNotTruncated(const std::string& path) {
-  unsigned char header[100] = {};
-  std::ifstream in(path, std::ios::binary);
-  if (!in.read(reinterpret_cast<char*>(header), sizeof(header))) return;
-  if (std::memcmp(header, "SQLite format 3", 16) != 0) return;
-  const uint32_t page_size = BigEndian(header + 16, 2) == 1 ? 65536 : BigEndian(header + 16, 2);
-  if (BigEndian(header + 92, 4) != BigEndian(header + 24, 4)) return;
-  const unsigned long long expected =
-      static_cast<unsigned long long>(BigEndian(header + 28, 4)) * page_size;
-  const auto size = static_cast<unsigned long long>(FileSize(path));
-  if (size < expected) {
-    throw DatabaseError(path, "the map is truncated: " + std::to_string(size) + " bytes of the " +
-                                  std::to_string(expected) +
-                                  " its header records (a copy cut short?)");
-  }
-}
-
-int ReadInt(SqliteConnection& connection, const std::string& sql) {
-  SqliteStatement query(connection, sql);
-  return query.Step() ? static_cast<int>(query.Int(0)) : 0;
-}
-
-std::string ReadText(SqliteConnection& connection, const std::string& sql) {
-  try {
-    SqliteStatement query(connection, sql);
-    return query.Step() ? query.Text(0) : "";
-  } catch (const DatabaseError&) {
-    return "";  // no such table: a map older than the row
-  }
-}
-
-// A refused map keeps its folder as it was: the -shm index SQLite made to read its log goes
-// (unless another process uses it).
-class RemoveIndexIfRefused {
- public:
-  explicit RemoveIndexIfRefused(const std::string& path)
-      : index_(path + "-shm"), existed_(fs::exists(index_)), path_(path) {}
-  ~RemoveIndexIfRefused() {
-    if (!accepted_ && !existed_ && !MapOpenToWrite(path_)) {
-      std::error_code ignored;
-      fs::remove(index_, ignored);
-    }
-  }
-  void Accept() { accepted_ = true; }
-
- private:
-  std::string index_;
-  bool existed_;
-  std::string path_;
-  bool accepted_ = false;
-};
-
 }  // namespace
 
-int LtmDatabase::CheckMapFile(const std::string& path, Mode mode) {
-  CheckIsFileOrAbsent(path, mode);
-  RemoveIndexIfRefused index(path);
-  const int version = CheckMapContent(path, mode);
-  index.Accept();
-  return version;
-}
-
-int LtmDatabase::CheckMapContent(const std::string& path, Mode mode) {
-  if (!HoldsData(path)) {
-    if (mode != Mode::kCreate) {
-      throw DatabaseError(path,
-                          "empty file: no memloop map in it (a run killed before its first "
-                          "image was stored leaves one: run without --resume to start "
-                          "the map afresh)");
-    }
-    return kFormatVersion;
-  }
-  // With a write-ahead log, a killed checkpoint may leave the file short of its new header; the
-  // log still holds the pages.
-  if (ReadableAlone(path)) CheckNotTruncated(path);
-  // Read-only: a refused file keeps its bytes (a read-write connection would fold the WAL in),
-  // and, read alone, gets no -wal or -shm beside it.
-  SqliteConnection connection(path, SQLITE_OPEN_READONLY, ReadableAlone(path));
-  int application_id = 0;
-  int version = 0;
-  try {
-    application_id = ReadInt(connection, "PRAGMA application_id");
-    version = ReadInt(connection, "PRAGMA user_version");
-  } catch (const DatabaseError&) {
-    const std::string folder =
-        fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
-    if (!ReadableAlone(path) && access(folder.c_str(), W_OK) != 0) {
-      throw DatabaseError(path, "cannot read the map's write-ahead log (" + path +
-                                    "-wal): SQLite needs to write its -shm file, and the folder " +
-                                    folder +
-                                    " is not writable; copy the map and its -wal "
-                                    "somewhere writable");
-    }
-    throw DatabaseError(path, std::string("not a memloop map: not an SQLite database, or its "
-                                          "header is damaged (") +
-                                  sqlite3_errmsg(connection.handle()) + ")");
-  }
-  if (application_id != kApplicationId) {
-    throw DatabaseError(path, "not a memloop map (an SQLite database of another application)");
-  }
-  if (version > kFormatVersion || version < 1) {
-    // Every format writes its version in the info table too: a header that disagrees with it
-    // was damaged, it is not a newer memloop's map.
-    const std::string recorded =
-        ReadText(connection, "SELECT value FROM info WHERE key='" + std::string(kFormatKey) + "'");
-    if (version < 1 || recorded != std::to_string(version)) {
-      throw DatabaseError(path, "the map's header is damaged (format version " +
-                                    std::to_string(version) + " in the header, " +
-                                    (recorded.empty() ? "none" : recorded) + " in the map)");
-    }
-    throw DatabaseError(path, "map format " + std::to_string(version) +
-                                  " is newer than this memloop's (" +
-                                  std::to_string(kFormatVersion) + "): upgrade memloop");
-  }
-  if (mode == Mode::kCreate) {
-    throw DatabaseError(path,
-                        "already holds a memloop map; a run starts a new map, so choose "
-                        "another --db path (the existing map is left untouched)");
-  }
-  if (mode != Mode::kAttach && mode != Mode::kPeek) {
-    const std::string problems = MapIntegrityProblems(connection, path);
-    if (!problems.empty()) throw DatabaseError(path, "the map is damaged (" + problems + ")");
-  }
-  return version;
+std::unique_ptr<SqlConnection> LtmDatabase::Connect(const std::string& path, Mode mode) {
+  if (IsServerMap(path)) return std::make_unique<PostgresConnection>(path);
+  return std::make_unique<SqliteConnection>(
+      path,
+      mode == Mode::kCreate                        ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
+      : mode == Mode::kRead || mode == Mode::kPeek ? SQLITE_OPEN_READONLY
+                                                   : SQLITE_OPEN_READWRITE,
+      // kPeek reads beside a writer: it must see the log
+      mode == Mode::kRead && ReadableAlone(path));
 }
 
 LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
-    : format_version_(CheckMapFile(path, mode)),
-      connection_(path,
-                  mode == Mode::kCreate ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE
-                  : mode == Mode::kRead || mode == Mode::kPeek ? SQLITE_OPEN_READONLY
-                                                               : SQLITE_OPEN_READWRITE,
-                  // kPeek reads beside a writer: it must see the log
-                  mode == Mode::kRead && ReadableAlone(path)) {
+    : format_version_(IsServerMap(path) ? kFormatVersion : CheckMapFile(path, mode)),
+      on_server_(IsServerMap(path)),
+      connection_(Connect(path, mode)) {
+  if (on_server_) {
+    format_version_ = OpenServerMap(mode);
+    return;
+  }
   if (mode == Mode::kRead || mode == Mode::kPeek) return;
   // WAL: the writer thread and readers do not block each other; synchronous=NORMAL keeps every
   // committed transaction through a crash of the process (not of the OS, by design of WAL).
-  connection_.Execute(
+  connection_->Execute(
       "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
       "PRAGMA foreign_keys=OFF;");
   if (mode == Mode::kCreate) CreateSchema();
@@ -212,7 +55,7 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
 }
 
 void LtmDatabase::CreateAppearanceTables() {
-  connection_.Execute(
+  connection_->Execute(
       "CREATE TABLE IF NOT EXISTS appearances(location_id INTEGER PRIMARY KEY,"
       " entries BLOB NOT NULL);"
       "CREATE TABLE IF NOT EXISTS appearance_vocabulary(entry INTEGER PRIMARY KEY,"
@@ -265,6 +108,7 @@ std::vector<std::pair<WordId, std::vector<unsigned char>>> LtmDatabase::ReadAppe
 }
 
 bool LtmDatabase::HasTable(const std::string& name) {
+  if (on_server_) return true;  // a fleet's map has every table (fleet_schema.h)
   auto& query = Cached("SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
   query.Bind(1, name);
   const bool found = query.Step() && query.Int(0) > 0;
@@ -273,7 +117,7 @@ bool LtmDatabase::HasTable(const std::string& name) {
 }
 
 void LtmDatabase::CreateSchema() {
-  connection_.Execute(
+  connection_->Execute(
       "BEGIN;"
       "PRAGMA application_id=" +
       std::to_string(kApplicationId) +
@@ -305,11 +149,11 @@ void LtmDatabase::CreateSchema() {
       "COMMIT;");
 }
 
-SqliteStatement& LtmDatabase::Cached(const std::string& sql) {
+SqlStatement& LtmDatabase::Cached(const std::string& sql) {
   for (auto& [text, statement] : statements_) {
     if (text == sql) return *statement;
   }
-  statements_.emplace_back(sql, std::make_unique<SqliteStatement>(connection_, sql));
+  statements_.emplace_back(sql, connection_->Prepare(sql));
   return *statements_.back().second;
 }
 
@@ -382,7 +226,11 @@ void LtmDatabase::ReplaceWord(WordId old_id, WordId new_id) {
 }
 
 void LtmDatabase::RedirectLocation(LocationId absorbed, LocationId survivor) {
-  Cached("UPDATE OR IGNORE links SET to_id=? WHERE to_id=?")
+  // A link that would then exist twice stays as it was (and goes below).
+  Cached(on_server_ ? "UPDATE links SET to_id=? WHERE to_id=? AND NOT EXISTS (SELECT 1 FROM links"
+                      " twin WHERE twin.from_id=links.from_id AND twin.to_id=?1 AND"
+                      " twin.type=links.type)"
+                    : "UPDATE OR IGNORE links SET to_id=? WHERE to_id=?")
       .Bind(1, static_cast<long long>(survivor))
       .Bind(2, static_cast<long long>(absorbed))
       .Run();
@@ -410,7 +258,8 @@ void LtmDatabase::WriteLink(LocationId from, LocationId to, bool loop_closure) {
 }
 
 void LtmDatabase::LimitPages(long long pages) {
-  connection_.Execute("PRAGMA max_page_count=" + std::to_string(pages));
+  if (on_server_) return;  // the server's disk is the server's
+  connection_->Execute("PRAGMA max_page_count=" + std::to_string(pages));
 }
 
 void LtmDatabase::WriteInfo(const std::string& key, const std::string& value) {
@@ -428,7 +277,7 @@ size_t CheckpointData::bytes() const {
 
 void LtmDatabase::WriteCheckpoint(const CheckpointData& checkpoint) {
   if (format_version_ < kFormatVersion) {  // its checkpoint is now this format's
-    connection_.Execute("PRAGMA user_version=" + std::to_string(kFormatVersion));
+    connection_->Execute("PRAGMA user_version=" + std::to_string(kFormatVersion));
     WriteInfo(kFormatKey, std::to_string(kFormatVersion));
     format_version_ = kFormatVersion;
   }

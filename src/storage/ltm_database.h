@@ -1,5 +1,6 @@
-// The Long-Term Memory's SQLite file, one per map: locations with their signatures, links and
-// images, the words they refer to that left the dictionary (with descriptors), and every
+// The Long-Term Memory's database, one per map: an SQLite file, or a robot's rows of a fleet's
+// map on a PostgreSQL server (fleet_schema.h), in the same tables: locations with their signatures,
+// links and images, the words they refer to that left the dictionary (with descriptors), and every
 // accepted loop closure. Identified by PRAGMA application_id and versioned by user_version.
 // One object per connection and thread.
 #pragma once
@@ -13,6 +14,7 @@
 #include "detector/location.h"
 #include "memloop/loop_closure_edits.h"
 #include "memloop/map_info.h"
+#include "storage/sql_connection.h"
 #include "storage/sqlite_statement.h"
 
 namespace memloop {
@@ -72,6 +74,9 @@ class LtmDatabase {
   // format, damaged header or content, or (kCreate) already holding a map. A refused file is never
   // written to: it is checked through a read-only connection first.
   // kOpen and kRead check the content too (map_integrity.h: once per unchanged file).
+  // A server's map (`path` a postgresql:// URI, IsServerMap) is the connected robot's: kCreate
+  // refuses a robot that has one, the others a robot that has none; kCreate and kOpen hold the
+  // robot's lock on the server (one writer per robot) until the connection closes.
   LtmDatabase(const std::string& path, Mode mode);
 
   // SQLite max_page_count: writes past it fail as on a full disk (tests).
@@ -116,7 +121,8 @@ class LtmDatabase {
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
-  // Corrections of the loop closures (loop_closure_edits.h), in the order made; none before the first.
+  // Corrections of the loop closures (loop_closure_edits.h), in the order made; none before the
+  // first.
   void CreateEditTable();
   long long WriteEdit(const LoopClosureEdit& edit);  // its id
   std::vector<LoopClosureEdit> ReadEdits();
@@ -145,12 +151,18 @@ class LtmDatabase {
   long long CountLocations();
   long long CountWords();
 
-  const std::string& path() const { return connection_.path(); }
+  const std::string& path() const { return connection_->path(); }
+  bool on_server() const { return on_server_; }
 
  private:
   // The checks above; returns the map's format version (kFormatVersion for a new file).
   static int CheckMapFile(const std::string& path, Mode mode);
   static int CheckMapContent(const std::string& path, Mode mode);  // after the file's type
+  // A map SQLite may read alone (immutable): closed cleanly, not being written.
+  static bool ReadableAlone(const std::string& path);
+  static std::unique_ptr<SqlConnection> Connect(const std::string& path, Mode mode);
+  // The server's checks (ltm_server_map.cc); returns the map's format version.
+  int OpenServerMap(Mode mode);
   void CreateSchema();
   void CreateAppearanceTables();
   void CreateImageTable();
@@ -160,14 +172,15 @@ class LtmDatabase {
   bool StoredSignatureIs(LocationId id, const Signature& signature);
   // Appends location `id`'s words and keypoints, in rank order, to `signature`.
   void ReadSignatureWords(LocationId id, Signature& signature);
-  SqliteStatement& Cached(const std::string& sql);
+  SqlStatement& Cached(const std::string& sql);
 
   // The format version is also an info row, so that a damaged header is told from a newer map.
   static constexpr const char* kFormatKey = "format_version";
 
   int format_version_;  // before connection_: the file is checked before it is opened to write
-  SqliteConnection connection_;
-  std::vector<std::pair<std::string, std::unique_ptr<SqliteStatement>>> statements_;
+  bool on_server_;
+  std::unique_ptr<SqlConnection> connection_;
+  std::vector<std::pair<std::string, std::unique_ptr<SqlStatement>>> statements_;
   std::optional<bool> has_views_;         // the location_views table, once looked for
   std::optional<bool> has_whole_images_;  // the whole_images table
   std::optional<bool> has_poses_;         // the loop_closure_poses table

@@ -6,7 +6,8 @@
 namespace memloop {
 
 void LtmDatabase::CreateEditTable() {
-  connection_.Execute(
+  if (on_server_) return;  // fleet_schema.h made it
+  connection_->Execute(
       "CREATE TABLE IF NOT EXISTS loop_closure_edits(id INTEGER PRIMARY KEY,"
       " action TEXT NOT NULL, query_image INTEGER, match_image INTEGER, undone_edit INTEGER,"
       " who TEXT NOT NULL, time REAL NOT NULL)");

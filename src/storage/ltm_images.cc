@@ -6,7 +6,7 @@
 namespace memloop {
 
 void LtmDatabase::CreateImageTable() {
-  connection_.Execute(
+  connection_->Execute(
       "CREATE TABLE IF NOT EXISTS images(image INTEGER PRIMARY KEY, session INTEGER NOT NULL,"
       " name TEXT NOT NULL, stamp REAL);"
       "CREATE INDEX IF NOT EXISTS images_session ON images(session, image);"
@@ -79,7 +79,7 @@ void LtmDatabase::WriteImage(const MapImage& image) {
 
 namespace {
 
-MapImage ImageOf(const SqliteStatement& row, int first_column) {
+MapImage ImageOf(const SqlStatement& row, int first_column) {
   MapImage image;
   image.index = static_cast<ImageIndex>(row.Int(first_column));
   image.session = static_cast<int>(row.Int(first_column + 1));

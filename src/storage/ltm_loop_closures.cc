@@ -5,7 +5,7 @@ namespace memloop {
 
 void LtmDatabase::CreateLoopClosurePoseTable() {
   // `loop` is the loop closure's rowid; the translation and rotation are NULL without a pose.
-  connection_.Execute(
+  connection_->Execute(
       "CREATE TABLE IF NOT EXISTS loop_closure_poses(loop INTEGER PRIMARY KEY,"
       " inliers INTEGER NOT NULL, has_pose INTEGER NOT NULL, metric INTEGER NOT NULL,"
       " tx REAL, ty REAL, tz REAL, qx REAL, qy REAL, qz REAL, qw REAL, reason TEXT NOT NULL)");

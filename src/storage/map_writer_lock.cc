@@ -1,5 +1,7 @@
 #include "storage/map_writer_lock.h"
 
+#include "storage/sql_connection.h"
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -52,6 +54,7 @@ void MarkHeld(const std::string& path, bool open) {
 std::string MapLockPath(const std::string& map_path) { return map_path + "-lock"; }
 
 bool MapOpenToWrite(const std::string& map_path) {
+  if (IsServerMap(map_path)) return false;
   {
     std::lock_guard<std::mutex> lock(held_mutex);
     const auto held = held_here.find(MapLockPath(map_path));
@@ -61,6 +64,7 @@ bool MapOpenToWrite(const std::string& map_path) {
 }
 
 MapWriterLock::MapWriterLock(const std::string& map_path) : path_(MapLockPath(map_path)) {
+  if (IsServerMap(map_path)) return;  // the server holds a robot's lock (ltm_server_map.cc)
   // A lock file another process unlinked between our open and our lock is not the lock: retry.
   for (int attempt = 0; attempt < 100; ++attempt) {
     fd_ = open(path_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
@@ -109,6 +113,7 @@ void MapWriterLock::WritePid() {
 }
 
 void MapWriterLock::Adopt() {
+  if (fd_ < 0) return;
   if (!created_) WritePid();
   created_ = true;
   MarkHeld(path_, true);
@@ -125,6 +130,7 @@ MapWriterLock::~MapWriterLock() {
 }
 
 long MapWriterProcess(const std::string& map_path) {
+  if (IsServerMap(map_path)) return 0;
   const std::string path = MapLockPath(map_path);
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return 0;

@@ -44,6 +44,10 @@ SqliteConnection::SqliteConnection(const std::string& path, int flags, bool immu
 
 SqliteConnection::~SqliteConnection() { sqlite3_close(db_); }
 
+std::unique_ptr<SqlStatement> SqliteConnection::Prepare(const std::string& sql) {
+  return std::make_unique<SqliteStatement>(*this, sql);
+}
+
 void SqliteConnection::Execute(const std::string& sql) {
   char* error = nullptr;
   const int code = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error);

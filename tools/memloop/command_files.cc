@@ -4,6 +4,7 @@
 
 #include "input/bag_sequence.h"
 #include "input/dataset_listing.h"
+#include "storage/sql_connection.h"
 
 namespace memloop::cli {
 
@@ -22,7 +23,7 @@ std::vector<NamedPath> RunInputs(const std::string& input, const SequenceOptions
 }
 
 std::vector<NamedPath> MapFiles(const std::string& path, const std::string& role) {
-  if (path.empty()) return {};
+  if (path.empty() || IsServerMap(path)) return {};  // a server's map is no file
   std::vector<NamedPath> files = {{role, path}};
   for (const char* suffix : {"-wal", "-shm", "-lock"}) {
     files.push_back({role + "'s " + (suffix + 1) + " file", path + suffix});

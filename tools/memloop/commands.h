@@ -18,6 +18,7 @@ void AddReportCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 void AddViewCommand(CLI::App& app);
+void AddFleetCommand(CLI::App& app);
 
 // `options` (a preset's, or a map's) with the parameter file `config_path` ("" = none), then each
 // "--set NAME=VALUE" in order, applied: later settings win. Throws memloop::Error.

@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   memloop::cli::AddInspectCommand(app);
   memloop::cli::AddExportCommand(app);
   memloop::cli::AddViewCommand(app);
+  memloop::cli::AddFleetCommand(app);
   // CLI11 says only "A subcommand is required" for an unknown first word: name it.
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; })

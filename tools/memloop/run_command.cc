@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
+#include "memloop/fleet.h"
 #include "memloop/image_sequence.h"
 #include "memloop/params.h"
 #include "session.h"
@@ -36,6 +37,7 @@ void AddRunCommand(CLI::App& app) {
   struct Arguments {
     std::string input;
     std::string database;
+    std::string robot;
     std::string out;
     std::vector<std::string> assignments;
     std::string config;
@@ -91,8 +93,13 @@ void AddRunCommand(CLI::App& app) {
       ->check(Number("a number of frames per second over 0", 0, false));
   CLI::Option* database =
       run->add_option("--db", arguments->database,
-                      "Map database file (the Long-Term Memory): a new file, or with --resume or "
-                      "--set memory.localization=1 an existing map; default: a temporary file");
+                      "Map database (the Long-Term Memory): a file, or a fleet's map on a server "
+                      "(postgresql://ROBOT@HOST/DBNAME); a new map, or with --resume or "
+                      "--set memory.localization=1 an existing one; default: a temporary file");
+  run->add_option("--robot", arguments->robot,
+                  "With --db postgresql://HOST/DBNAME (a fleet's map, docs/fleet.md): the robot, "
+                  "whose database role the run connects as")
+      ->needs(database);
   run->add_flag("--resume", arguments->resume,
                 "Go on with the map in --db from its last checkpoint: images after the one it "
                 "holds are processed, --out is continued, parameters are the map's (--set may "
@@ -113,6 +120,7 @@ void AddRunCommand(CLI::App& app) {
   preset->excludes(run->get_option("--resume"));
   preset->excludes(run->get_option("--new-session"));
   run->callback([arguments] {
+    arguments->database = RobotMapUri(arguments->database, arguments->robot);
     const bool extends = arguments->resume || arguments->new_session;
     Options options =
         WithSettings(extends ? ReadMapOptions(arguments->database)
