@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
+#include <thread>
 
 #include "cli_helpers.h"
 #include "memloop/detector.h"
@@ -17,6 +20,8 @@
 #include "memloop/synthetic_route.h"
 #include "postgres_server.h"
 #include "short_route.h"
+#include "small_memory.h"
+#include "storage/long_term_memory.h"
 
 namespace memloop {
 namespace {
@@ -53,15 +58,20 @@ Options BudgetOptions() {
 struct RouteRun {
   std::vector<std::pair<ImageIndex, std::vector<ImageIndex>>> loop_closures;
   std::vector<int> retrieved;  // per image
+  std::vector<std::string> notices;
 };
 
 // The demo route (260 images): with 30 locations in WM, it transfers and retrieves.
-RouteRun RunRoute(const std::string& map, MapMode mode = MapMode::kNew) {
+// `before_image(index)` runs before each image is processed; `images`: the first ones only.
+RouteRun RunRoute(const std::string& map, MapMode mode = MapMode::kNew,
+                  const std::function<void(int)>& before_image = nullptr, int images = 0) {
   const SyntheticRoute route;
   Detector detector(BudgetOptions(), map, mode);
   RouteRun run;
-  for (int index = 0; index < route.size(); ++index) {
+  for (int index = 0; index < (images > 0 ? images : route.size()); ++index) {
+    if (before_image) before_image(index);
     const Result result = detector.Process(route.Render(index), index);
+    run.notices.insert(run.notices.end(), result.map_notices.begin(), result.map_notices.end());
     run.retrieved.push_back(static_cast<int>(result.retrieved_ids.size()));
     if (result.HasLoopClosure()) {
       run.loop_closures.emplace_back(index, result.loop_closure_images);
@@ -138,7 +148,7 @@ TEST_F(FleetTest, TheFleetHoldsEveryTableAndColumnOfAMapFile) {
 
 TEST_F(FleetTest, ARobotReadsEveryRobotsRowsAndChangesOnlyItsOwn) {
   const std::string fleet = NewFleet("guarded", {"r1", "r2"});
-  RunRoute(Server().Uri("r1", fleet));
+  RunRoute(Server().Uri("r1", fleet), MapMode::kNew, nullptr, 60);
   const std::string r1_rows = Server().Run("r2", fleet,
                                            "SELECT count(*) FROM memloop.locations WHERE "
                                            "robot='r1'");
@@ -165,7 +175,7 @@ TEST_F(FleetTest, ARobotReadsEveryRobotsRowsAndChangesOnlyItsOwn) {
 
 TEST_F(FleetTest, FleetInitIsIdempotentAndKeepsTheRows) {
   const std::string fleet = NewFleet("twice", {"r1"});
-  RunRoute(Server().Uri("r1", fleet));
+  RunRoute(Server().Uri("r1", fleet), MapMode::kNew, nullptr, 60);
   const std::string rows =
       Server().Run("r1", fleet, "SELECT count(*) FROM memloop.signature_words");
   InitFleet(Server().Uri(PostgresServer::kAdmin, fleet), {"r1", "r2"});
@@ -215,6 +225,78 @@ TEST_F(FleetTest, EachWayToBeRefusedIsOneClearLine) {
                          "robot r1's map is being written by another process"));
   }
   EXPECT_TRUE(Contains(refusal(Server().Uri("r1", fleet)), "robot r1 already has a map"));
+}
+
+// The server restarts while the robot runs: its writes wait in memory, its reads wait for the
+// server, and the map ends as an uninterrupted run's, saying what happened.
+TEST_F(FleetTest, AServerRestartMidRunLosesNothing) {
+  const std::string fleet = NewFleet("restarted", {"r1"});
+  testing::TempDir dir;
+  const RouteRun file = RunRoute(dir.File("map.db"));
+  std::thread restart;
+  const RouteRun server = RunRoute(Server().Uri("r1", fleet), MapMode::kNew, [&](int index) {
+    if (index == 80) {
+      restart = std::thread([] {
+        Server().Stop();
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+        Server().Start();
+      });
+    }
+    if (index == 140) restart.join();  // the outage falls within the run
+  });
+  EXPECT_EQ(server.loop_closures, file.loop_closures);
+  EXPECT_EQ(server.retrieved, file.retrieved);
+  ASSERT_FALSE(server.notices.empty()) << "the restart went unnoticed";
+  EXPECT_TRUE(Contains(server.notices.back(), "reconnected to the server after"))
+      << server.notices.back();
+  const MapInfo on_file = InspectMap(dir.File("map.db"));
+  const MapInfo on_server = InspectMap(Server().Uri("r1", fleet));
+  EXPECT_EQ(on_server.integrity, "ok");
+  EXPECT_EQ(on_server.locations, on_file.locations);
+  EXPECT_EQ(on_server.words, on_file.words);
+  EXPECT_EQ(on_server.neighbour_links + on_server.loop_closure_links,
+            on_file.neighbour_links + on_file.loop_closure_links);
+  EXPECT_EQ(on_server.loop_closures.size(), on_file.loop_closures.size());
+  EXPECT_EQ(on_server.last_image, on_file.last_image);
+}
+
+// Away too long: once the queued writes reach their bound, the robot stops; the server back, its
+// map holds every location up to its last checkpoint and none after.
+TEST_F(FleetTest, AServerAwayPastTheQueueBoundStopsTheRunAtItsLastCheckpoint) {
+  const std::string fleet = NewFleet("away", {"r1"});
+  LtmOptions options;
+  options.max_pending_bytes = 64 << 10;
+  CheckpointData checkpoint;
+  checkpoint.full = true;
+  checkpoint.state = {{"marker", {1, 2, 3}}};
+  LocationId checkpointed = 1;
+  {
+    LongTermMemory ltm(Server().Uri("r1", fleet), LtmDatabase::Mode::kCreate, options);
+    ltm.Store(testing::MakeLtmLocation(1, {1, 2, 3}));
+    ltm.Checkpoint(checkpoint);
+    ltm.Flush();
+    Server().Stop();
+    std::string stopped;
+    try {
+      for (LocationId id = 2; id < 100000; ++id) {
+        ltm.Store(testing::MakeLtmLocation(id, std::vector<WordId>(50, id)));
+        if (id % 10 == 0) {
+          ltm.Checkpoint(checkpoint);
+          checkpointed = id;
+        }
+      }
+    } catch (const DatabaseError& error) {
+      stopped = error.what();
+    }
+    EXPECT_TRUE(Contains(stopped, "the run stops at its last committed checkpoint")) << stopped;
+    ASSERT_GT(checkpointed, 10) << "the bound was reached before a checkpoint was queued";
+    Server().Start();  // the writer commits the queued checkpoints as the map closes
+  }
+  std::vector<LocationId> expected;
+  for (LocationId id = 1; id <= checkpointed; ++id) expected.push_back(id);
+  LtmDatabase map(Server().Uri("r1", fleet), LtmDatabase::Mode::kRead);
+  EXPECT_EQ(map.ReadLocationIds(), expected);
+  EXPECT_EQ(map.ReadState("marker"), std::vector<unsigned char>({1, 2, 3}));
 }
 
 TEST_F(FleetTest, TheToolRunsAndResumesARobotAfterKill9) {

@@ -112,6 +112,11 @@ struct Result {
   std::string time_decided;
   void AddTimeDecision(const std::string& what);
 
+  // What the map's server said since the previous image, one line each (a map on a server only):
+  // its connection broke, and the robot goes on, its writes queued; it came back, and they were
+  // committed.
+  std::vector<std::string> map_notices;
+
   bool HasLoopClosure() const { return loop_closure_id != kNoLocation; }
   // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62"; in
   // localization "image 41: localized at location 3 (image 2), p=0.62".

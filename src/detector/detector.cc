@@ -543,6 +543,7 @@ class Detector::Impl {
     result.wm_size = static_cast<int>(memory_.working_memory().size());
     result.ltm_size = static_cast<int>(ltm_.size());
     result.dictionary_size = static_cast<int>(memory_.dictionary().size());
+    result.map_notices = ltm_.TakeNotices();
     result.times.ltm_wait_ms = ltm_.TakeWriterWaitMs();
     result.times.ltm_read_ms = ltm_.TakeFileReadMs();
     result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;

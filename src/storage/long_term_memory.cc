@@ -1,6 +1,9 @@
 #include "storage/long_term_memory.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "detector/stopwatch.h"
@@ -163,8 +166,15 @@ void LongTermMemory::Enqueue(Operation operation) {
     // writes after the last one cannot be committed before the next).
     const auto can_free = [&] { return CommittableSequenceLocked() > committed_sequence_; };
     if (pending_bytes_ + bytes > max_pending_bytes_ && can_free()) {
-      WaitForWriterLocked(
-          lock, [&] { return pending_bytes_ + bytes <= max_pending_bytes_ || !can_free(); });
+      WaitForWriterLocked(lock, [&] {
+        return pending_bytes_ + bytes <= max_pending_bytes_ || !can_free() || server_lost_;
+      });
+    }
+    if (pending_bytes_ + bytes > max_pending_bytes_ && server_lost_) {
+      throw DatabaseError(path_, "the server has been away while " +
+                                     std::to_string(pending_bytes_ >> 20) +
+                                     " MB of writes queued, the bound: the run stops at its "
+                                     "last committed checkpoint (--resume goes on from it)");
     }
     const long long sequence = next_sequence_++;
     if (std::holds_alternative<CheckpointData>(operation)) last_checkpoint_sequence_ = sequence;
@@ -373,7 +383,10 @@ void LongTermMemory::Checkpoint(CheckpointData checkpoint) {
   {
     std::unique_lock<std::mutex> lock(mutex_);
     ThrowIfFailedLocked();
-    WaitForWriterLocked(lock, [this] { return committed_sequence_ >= last_checkpoint_sequence_; });
+    // While the server is away, checkpoints queue (Enqueue bounds them): the first committed
+    // after it returns is the robot's latest.
+    WaitForWriterLocked(
+        lock, [this] { return committed_sequence_ >= last_checkpoint_sequence_ || server_lost_; });
   }
   Enqueue(std::move(checkpoint));
 }
@@ -537,6 +550,47 @@ void LongTermMemory::Forget(const std::deque<Queued>& batch, size_t bytes) {
   }
 }
 
+void LongTermMemory::CommitBatch(LtmDatabase& database, const std::deque<Queued>& batch) {
+  // The batch's mark: this process and the batch's last write.
+  const std::string mark = std::to_string(getpid()) + "/" +
+                           std::to_string(reinterpret_cast<uintptr_t>(this)) + "/" +
+                           std::to_string(batch.back().sequence);
+  for (;;) {
+    try {
+      database.Begin();
+      for (const Queued& queued : batch) Apply(database, queued.operation);
+      if (database.on_server()) database.WriteInfo("writer.batch", mark);
+      database.Commit();
+      return;
+    } catch (const ServerConnectionLost& lost) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        server_lost_ = true;
+        notices_.push_back(std::string(lost.what()) +
+                           ": waiting for the server; images go on, "
+                           "their writes queued");
+      }
+      committed_.notify_all();  // a checkpoint waiting for the previous one goes on
+      const double waited = database.Reconnect();
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        server_lost_ = false;
+        char line[160];
+        std::snprintf(line, sizeof(line),
+                      "%s: reconnected to the server after %.1f s; %zu queued writes committed",
+                      path_.c_str(), waited, queue_.size() + batch.size());
+        notices_.push_back(line);
+      }
+      if (database.ReadInfo("writer.batch") == mark) return;  // the commit had gone through
+    }
+  }
+}
+
+std::vector<std::string> LongTermMemory::TakeNotices() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(notices_, {});
+}
+
 void LongTermMemory::WriterLoop(LtmOptions options) {
   NameThisThread("writer");
   StepBelowRealTimePriority();  // behind the per-image threads (thread_priority.h)
@@ -557,12 +611,8 @@ void LongTermMemory::WriterLoop(LtmOptions options) {
         queue_.erase(queue_.begin(), queue_.begin() + count);
       }
       size_t bytes = 0;
-      database.Begin();
-      for (const Queued& queued : batch) {
-        Apply(database, queued.operation);
-        bytes += queued.bytes;
-      }
-      database.Commit();
+      for (const Queued& queued : batch) bytes += queued.bytes;
+      CommitBatch(database, batch);
       Forget(batch, bytes);
       committed_.notify_all();
     }

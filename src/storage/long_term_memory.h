@@ -133,6 +133,9 @@ class LongTermMemory {
   // Throws DatabaseError when the writer has failed (a full disk, a removed file): the map on
   // disk no longer follows memory, so the detector must stop.
   void CheckWriter();
+  // A server's map: what the writer has to say since the last call (it lost the server, it
+  // reconnected and caught up), one line each.
+  std::vector<std::string> TakeNotices();
   // Closing (Detector::Close): the writer thread stops, and from now on the caller applies each
   // write at once, in one transaction with those still queued, which the next Checkpoint
   // commits (without one they are dropped at destruction, as before). Reads see these writes
@@ -200,6 +203,9 @@ class LongTermMemory {
   void Enqueue(Operation operation);
   void Overlay(long long sequence, const Operation& operation);
   void WriterLoop(LtmOptions options);
+  // Commits `batch` (Begin ... Commit); on a server whose connection breaks, reconnects and
+  // commits it again, unless its commit had gone through (its mark in the info rows says so).
+  void CommitBatch(LtmDatabase& database, const std::deque<Queued>& batch);
   void Apply(LtmDatabase& database, const Operation& operation);
   void ApplyDirectly(const Operation& operation);
   // The writer committed `batch`: the overlay forgets it, CommittedWrites and recent_words_ keep
@@ -263,6 +269,11 @@ class LongTermMemory {
   long long recent_words_floor_ = 0;  // every word stored after it is kept (or renamed since)
   bool stopping_ = false;
   std::string writer_failure_;
+  // A server's map whose connection broke: the writer waits for it to come back (queued writes
+  // are then committed), checkpoints do not wait for each other meanwhile, and a full queue
+  // stops the run (Enqueue) instead of waiting.
+  bool server_lost_ = false;
+  std::vector<std::string> notices_;  // TakeNotices
   std::thread writer_;
 };
 

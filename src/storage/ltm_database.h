@@ -83,6 +83,8 @@ class LtmDatabase {
   void LimitPages(long long pages);
   void Begin();
   void Commit();
+  // After ServerConnectionLost (a server's map): SqlConnection::Reconnect.
+  double Reconnect() { return connection_->Reconnect(); }
 
   void WriteLocation(const Location& location);
   // A word's descriptor, as the bytes of its row (float or binary: the map's info says which).

@@ -29,18 +29,17 @@ int LtmDatabase::OpenServerMap(Mode mode) {
                                     "init URI --robot " +
                                     robot + "`");
   }
-  connection_->Execute(std::string("SET search_path = ") + kOwnRowsSchema);
+  connection_->Setup(std::string("SET search_path = ") + kOwnRowsSchema);
   if (mode == Mode::kCreate || mode == Mode::kOpen) {
-    // Session-level: the server releases it when this connection ends, a kill -9 included.
-    if (QueryNumber(
-            "SELECT pg_try_advisory_lock(hashtext('memloop robot ' || current_user))::int") == 0) {
-      throw DatabaseError(path(), "robot " + robot +
-                                      "'s map is being written by another process (one run "
-                                      "per robot at a time)");
-    }
+    // Session-level: the server releases it when this connection ends, a kill -9 included, and
+    // it is taken again after a reconnection.
+    connection_->Setup(
+        "DO $$ BEGIN IF NOT pg_try_advisory_lock(hashtext('memloop robot ' || current_user)) "
+        "THEN RAISE EXCEPTION 'robot %''s map is being written by another process (one run per "
+        "robot at a time)', current_user; END IF; END $$");
   }
   if (mode == Mode::kRead || mode == Mode::kPeek) {
-    connection_->Execute("SET default_transaction_read_only = on");
+    connection_->Setup("SET default_transaction_read_only = on");
   }
   const std::string version = ReadInfo(kFormatKey);
   if (mode == Mode::kCreate) {

@@ -1,7 +1,5 @@
 #include "storage/map_writer_lock.h"
 
-#include "storage/sql_connection.h"
-
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -16,6 +14,7 @@
 
 #include "memloop/errors.h"
 #include "memloop/map_info.h"
+#include "storage/sql_connection.h"
 
 namespace memloop {
 namespace {

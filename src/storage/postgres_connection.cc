@@ -1,9 +1,11 @@
 #include "storage/postgres_connection.h"
 
 #include <cctype>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <regex>
+#include <thread>
 
 #include "memloop/errors.h"
 
@@ -22,7 +24,7 @@ std::string FirstLine(const char* message) {
   std::string line = message == nullptr ? "" : message;
   const size_t end = line.find('\n');
   if (end != std::string::npos) line.erase(end);
-  if (line.rfind("ERROR:  ", 0) == 0) line.erase(0, 8);
+  if (line.rfind("ERROR:  ", 0) == 0 || line.rfind("FATAL:  ", 0) == 0) line.erase(0, 8);
   while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
   return line;
 }
@@ -36,10 +38,12 @@ uint64_t BigEndian(const char* bytes, int count) {
 
 class PostgresStatement : public SqlStatement {
  public:
-  PostgresStatement(PostgresConnection& connection, std::string name, int parameters, bool commits)
+  PostgresStatement(PostgresConnection& connection, std::string name, int parameters,
+                    const std::string& sql)
       : connection_(connection),
         name_(std::move(name)),
-        commits_(commits),
+        begins_(sql == "BEGIN"),
+        commits_(sql == "COMMIT"),
         values_(parameters),
         null_(parameters, true),
         binary_(parameters, 0) {}
@@ -73,7 +77,11 @@ class PostgresStatement : public SqlStatement {
     Reset();
     const Parameters parameters = Gather();
     connection_.Send(name_, parameters.values, lengths_, binary_);
-    if (commits_) connection_.Drain();  // the writer must know its transaction is in
+    if (begins_) connection_.SetInTransaction(true);
+    if (commits_) {
+      connection_.Drain();  // the writer must know its transaction is in
+      connection_.SetInTransaction(false);
+    }
   }
   void Reset() override {
     PQclear(result_);
@@ -158,6 +166,7 @@ class PostgresStatement : public SqlStatement {
 
   PostgresConnection& connection_;
   std::string name_;
+  bool begins_;
   bool commits_;
   std::vector<int> lengths_;
   std::vector<std::string> values_;
@@ -230,7 +239,8 @@ std::string WithoutPassword(const std::string& uri) {
                             "$1password=...");
 }
 
-PostgresConnection::PostgresConnection(const std::string& uri) : name_(WithoutPassword(uri)) {
+PostgresConnection::PostgresConnection(const std::string& uri)
+    : name_(WithoutPassword(uri)), uri_(uri) {
   connection_ = PQconnectdb(uri.c_str());
   if (PQstatus(connection_) != CONNECTION_OK) {
     std::string message = PQerrorMessage(connection_);
@@ -261,7 +271,7 @@ void PostgresConnection::Send(const std::string& name, const std::vector<const c
                               const std::vector<int>& lengths, const std::vector<int>& binary) {
   if (PQsendQueryPrepared(connection_, name.c_str(), static_cast<int>(values.size()), values.data(),
                           lengths.data(), binary.data(), 1) == 0) {
-    throw DatabaseError(name_, "cannot send a statement (PostgreSQL: " + ErrorOf(nullptr) + ")");
+    ThrowFailure("cannot send a statement", ErrorOf(nullptr));
   }
   if (++unanswered_ >= kMaxUnanswered) Drain();
 }
@@ -269,11 +279,24 @@ void PostgresConnection::Send(const std::string& name, const std::vector<const c
 PGresult* PostgresConnection::Query(const std::string& name, const std::vector<const char*>& values,
                                     const std::vector<int>& lengths,
                                     const std::vector<int>& binary) {
+  try {
+    return QueryOnce(name, values, lengths, binary);
+  } catch (const ServerConnectionLost&) {
+    if (in_transaction_) throw;  // the transaction's writes are gone: its owner redoes them
+    Reconnect();
+    return QueryOnce(name, values, lengths, binary);
+  }
+}
+
+PGresult* PostgresConnection::QueryOnce(const std::string& name,
+                                        const std::vector<const char*>& values,
+                                        const std::vector<int>& lengths,
+                                        const std::vector<int>& binary) {
   Drain();
   if (PQsendQueryPrepared(connection_, name.c_str(), static_cast<int>(values.size()), values.data(),
                           lengths.data(), binary.data(), 1) == 0 ||
       PQpipelineSync(connection_) == 0) {
-    throw DatabaseError(name_, "cannot send a statement (PostgreSQL: " + ErrorOf(nullptr) + ")");
+    ThrowFailure("cannot send a statement", ErrorOf(nullptr));
   }
   PGresult* result = PQgetResult(connection_);
   ReadUntilSync();  // the end of its results, then the synchronisation point
@@ -305,13 +328,48 @@ std::string PostgresConnection::ReadUntilSync() {
 void PostgresConnection::Drain() {
   if (unanswered_ == 0) return;
   unanswered_ = 0;
-  if (PQpipelineSync(connection_) == 0) {
-    throw DatabaseError(name_, "cannot reach the server (PostgreSQL: " + ErrorOf(nullptr) + ")");
-  }
+  if (PQpipelineSync(connection_) == 0) ThrowFailure("cannot reach the server", ErrorOf(nullptr));
   const std::string first_error = ReadUntilSync();
-  if (!first_error.empty()) {
-    throw DatabaseError(name_, "a statement failed (PostgreSQL: " + first_error + ")");
+  if (!first_error.empty()) ThrowFailure("a statement failed", first_error);
+}
+
+void PostgresConnection::ThrowFailure(const std::string& what, const std::string& message) const {
+  const std::string text = what + " (PostgreSQL: " + message + ")";
+  if (PQstatus(connection_) == CONNECTION_BAD) throw ServerConnectionLost(name_, text);
+  throw DatabaseError(name_, text);
+}
+
+double PostgresConnection::Reconnect() {
+  const auto start = std::chrono::steady_clock::now();
+  const auto waited = [&start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  unanswered_ = 0;
+  in_transaction_ = false;
+  for (;;) {
+    PQreset(connection_);
+    if (PQstatus(connection_) == CONNECTION_OK) break;
+    if (waited() > kMaxOutageSeconds) {
+      throw DatabaseError(name_, "the server has been unreachable for " +
+                                     std::to_string(static_cast<int>(kMaxOutageSeconds)) + " s (" +
+                                     ErrorOf(nullptr) + ")");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
+  PQsetNoticeProcessor(
+      connection_, [](void*, const char*) {}, nullptr);
+  PQenterPipelineMode(connection_);
+  const std::vector<std::string> setup = std::move(setup_);
+  for (const std::string& sql : setup) Setup(sql);
+  for (const auto& [name, text] : texts_) {
+    PGresult* result = Synchronously(
+        [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); });
+    const bool prepared = PQresultStatus(result) == PGRES_COMMAND_OK;
+    const std::string message = prepared ? "" : ErrorOf(result);
+    PQclear(result);
+    if (!prepared) ThrowFailure("cannot prepare a statement again", message);
+  }
+  return waited();
 }
 
 std::string PostgresConnection::ErrorOf(const PGresult* result) const {
@@ -322,7 +380,17 @@ std::string PostgresConnection::ErrorOf(const PGresult* result) const {
 void PostgresConnection::Check(const PGresult* result, const std::string& what) const {
   const ExecStatusType status = result ? PQresultStatus(result) : PGRES_FATAL_ERROR;
   if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return;
-  throw DatabaseError(name_, what + " (PostgreSQL: " + ErrorOf(result) + ")");
+  ThrowFailure(what, ErrorOf(result));
+}
+
+void PostgresConnection::Setup(const std::string& sql) {
+  PGresult* result = Synchronously([&] { return PQexec(connection_, sql.c_str()); });
+  const ExecStatusType status = PQresultStatus(result);
+  const std::string message = ErrorOf(result);
+  PQclear(result);
+  // The server's own words: a setup's refusal (the robot's lock taken) is the news.
+  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) throw DatabaseError(name_, message);
+  setup_.push_back(sql);
 }
 
 void PostgresConnection::Execute(const std::string& sql) {
@@ -341,16 +409,25 @@ std::unique_ptr<SqlStatement> PostgresConnection::Prepare(const std::string& sql
   NumberParameters(sql, parameters);
   const std::string name = "memloop_" + std::to_string(statements_++);
   const std::string text = ToPostgresDialect(sql);
-  PGresult* result =
-      Synchronously([&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); });
-  try {
-    Check(result, "the server refused a statement");
-  } catch (...) {
-    PQclear(result);
-    throw;
+  for (int attempt = 0;; ++attempt) {
+    try {
+      PGresult* result = Synchronously(
+          [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); });
+      try {
+        Check(result, "the server refused a statement");
+      } catch (...) {
+        PQclear(result);
+        throw;
+      }
+      PQclear(result);
+      break;
+    } catch (const ServerConnectionLost&) {
+      if (in_transaction_ || attempt > 0) throw;  // as Query
+      Reconnect();
+    }
   }
-  PQclear(result);
-  return std::make_unique<PostgresStatement>(*this, name, parameters, sql == "COMMIT");
+  texts_.emplace_back(name, text);
+  return std::make_unique<PostgresStatement>(*this, name, parameters, sql);
 }
 
 }  // namespace memloop

@@ -26,12 +26,15 @@ class PostgresConnection : public SqlConnection {
   ~PostgresConnection() override;
 
   void Execute(const std::string& sql) override;
+  void Setup(const std::string& sql) override;
+  double Reconnect() override;
   std::unique_ptr<SqlStatement> Prepare(const std::string& sql) override;
   const std::string& path() const override { return name_; }
 
   // The first line of the server's message for `result` (or of the connection's).
   std::string ErrorOf(const PGresult* result) const;
-  // Throws DatabaseError "<uri>: <what> (PostgreSQL: <message>)" unless `result` succeeded.
+  // Throws DatabaseError "<uri>: <what> (PostgreSQL: <message>)" unless `result` succeeded;
+  // ServerConnectionLost when the connection broke.
   void Check(const PGresult* result, const std::string& what) const;
   PGconn* handle() const { return connection_; }
 
@@ -43,6 +46,12 @@ class PostgresConnection : public SqlConnection {
                   const std::vector<int>& lengths, const std::vector<int>& binary);
   // Reads the answers of every statement sent; throws the first error among them.
   void Drain();
+  // BEGIN and COMMIT run: a statement with results is sent again after a reconnection only
+  // outside a transaction (inside, what the transaction wrote is gone).
+  void SetInTransaction(bool in_transaction) { in_transaction_ = in_transaction; }
+
+  // How long Reconnect waits for the server: a restart takes seconds.
+  static constexpr double kMaxOutageSeconds = 60;
 
  private:
   static constexpr int kMaxUnanswered = 1000;  // their answers stay far below a socket's buffer
@@ -51,11 +60,19 @@ class PostgresConnection : public SqlConnection {
   PGresult* Synchronously(Work work);
   // Reads answers up to the pipeline's synchronisation point; the first error's message, or "".
   std::string ReadUntilSync();
+  PGresult* QueryOnce(const std::string& name, const std::vector<const char*>& values,
+                      const std::vector<int>& lengths, const std::vector<int>& binary);
+  // Throws ServerConnectionLost when the connection broke, else DatabaseError.
+  [[noreturn]] void ThrowFailure(const std::string& what, const std::string& message) const;
 
   std::string name_;
   PGconn* connection_ = nullptr;
   int statements_ = 0;  // prepared so far: their names
   int unanswered_ = 0;  // sent, answers not read yet
+  bool in_transaction_ = false;
+  std::string uri_;                                         // Reconnect's, with its password
+  std::vector<std::string> setup_;                          // Setup's statements
+  std::vector<std::pair<std::string, std::string>> texts_;  // prepared: name, text
 };
 
 // A statement in SQLite's dialect as PostgreSQL's: parameters ?, ?N become $N; INSERT OR IGNORE

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "memloop/errors.h"
+
 namespace memloop {
 
 class SqlStatement {
@@ -32,11 +34,24 @@ class SqlStatement {
   virtual std::vector<unsigned char> Blob(int column) const = 0;
 };
 
+// The connection to a map's server broke (the server restarted, the network went): what was not
+// committed is lost, and Reconnect() may bring the connection back.
+class ServerConnectionLost : public DatabaseError {
+ public:
+  using DatabaseError::DatabaseError;
+};
+
 class SqlConnection {
  public:
   virtual ~SqlConnection() = default;
   // One or more statements without parameters or results.
   virtual void Execute(const std::string& sql) = 0;
+  // A statement that sets up the session (a setting, a lock): run now, and again by Reconnect.
+  virtual void Setup(const std::string& sql) { Execute(sql); }
+  // After ServerConnectionLost: connects again, waiting for the server up to a bound, with the
+  // session set up and the statements prepared as before; returns the seconds it waited. Throws
+  // DatabaseError when the server does not come back (or, for a file, at once).
+  virtual double Reconnect() { throw DatabaseError(path(), "the map's connection broke"); }
   virtual std::unique_ptr<SqlStatement> Prepare(const std::string& sql) = 0;
   // How errors name the map: a file's path, or a server's URI without its password.
   virtual const std::string& path() const = 0;

@@ -274,6 +274,8 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
       handed = std::chrono::steady_clock::now();
     }
     Result result = detector->Process(frame.image, frame.depth, info);
+    for (const std::string& notice : result.map_notices)
+      progress.Print("memloop: " + notice, stderr);
     if (result.HasLoopClosure()) {
       ++loop_closures;
       if (session.print_loop_closures) progress.Print(result.Brief(), stdout);
