@@ -28,10 +28,10 @@ namespace {
 
 using testing::PostgresServer;
 
-// One server for the tests of this process: initdb takes a second or two.
+// One server for the tests of this process (initdb takes a second or two), stopped at its exit.
 PostgresServer& Server() {
-  static auto* server = new PostgresServer();
-  return *server;
+  static PostgresServer server;
+  return server;
 }
 
 class FleetTest : public ::testing::Test {

@@ -1,7 +1,8 @@
 // A PostgreSQL server of the test's own: initdb and pg_ctl on a private folder, listening on a
 // Unix socket in it and on no TCP port, removed with everything in it at the end. As root (CI),
 // the server runs as the user postgres (initdb refuses root). Debian's postgresql-15 package
-// provides the programs (make test installs it).
+// provides the programs (make test installs it). A watchman process stops the server and removes
+// the folder should the test process die without doing it (a crash, a kill -9, a timeout).
 #pragma once
 
 #include <libpq-fe.h>
@@ -48,6 +49,10 @@ class PostgresServer {
     const std::string rules = "local all pw_robot scram-sha-256\n" + ReadBytes(hba);
     std::ofstream(hba) << rules;
     Start();
+    // The watchman: detached, it outlives a killed test process by at most a second.
+    Shell("setsid sh -c 'while kill -0 " + std::to_string(getpid()) +
+          " 2>/dev/null; do sleep 1; done; " + as_ + bin_ + "/pg_ctl -D " + Data() +
+          " -m immediate stop; rm -rf " + folder_.path().string() + "' >/dev/null 2>&1 &");
     Admin("postgres", "CREATE DATABASE fleet");
   }
   ~PostgresServer() {

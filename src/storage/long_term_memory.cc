@@ -213,6 +213,10 @@ void LongTermMemory::StoreWord(WordId id, const cv::Mat& descriptor) {
 }
 
 void LongTermMemory::ReplaceWord(WordId old_id, WordId new_id) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    read_words_.erase(old_id);  // the word goes from the map
+  }
   Enqueue(ReplaceWordOp{old_id, new_id});
 }
 
@@ -303,6 +307,7 @@ std::optional<Location> LongTermMemory::ReadLocked(LocationId id) {
   } else {
     const Stopwatch read;
     location = reader_.ReadLocation(id);
+    if (location && reader_.on_server()) read_words_ = reader_.ReadSignatureDescriptors(id);
     file_read_ms_ += read.ElapsedMs();
   }
   if (location) Rewrite(*location);
@@ -362,6 +367,7 @@ std::optional<std::vector<unsigned char>> LongTermMemory::LoadWord(WordId id,
   if (pending != pending_words_.end()) return pending->second.second;
   if (pending_renames_.count(id)) return std::nullopt;
   if (const auto* recent = recent_words_.Find(id)) return recent->second;
+  if (const auto read = read_words_.find(id); read != read_words_.end()) return read->second;
   if (rows != nullptr) {
     const auto word = rows->words.find(id);
     if (word != rows->words.end()) return word->second;

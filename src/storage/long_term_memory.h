@@ -263,6 +263,9 @@ class LongTermMemory {
   std::map<LocationId, std::pair<long long, LocationId>> pending_redirects_;
   std::map<LocationId, std::vector<std::pair<long long, AddLinkOp>>> pending_links_;
   CommittedWrites committed_writes_;  // guarded by mutex_
+  // A server's map: the descriptors of the words of the location read last (ReadLocked), read in
+  // one round trip with it, for LoadWord; a word re-matched since is dropped. Guarded by mutex_.
+  std::unordered_map<WordId, std::vector<unsigned char>> read_words_;
   // Descriptors of words whose store was committed lately (LtmOptions::recent_word_bytes), with
   // the sequence of the store; guarded by mutex_.
   OldestFirstCache<WordId, std::pair<long long, std::vector<unsigned char>>> recent_words_;

@@ -457,6 +457,18 @@ std::optional<std::vector<unsigned char>> LtmDatabase::ReadWord(WordId id) {
   return descriptor;
 }
 
+std::unordered_map<WordId, std::vector<unsigned char>> LtmDatabase::ReadSignatureDescriptors(
+    LocationId id) {
+  auto& query = Cached(
+      "SELECT w.id, w.descriptor FROM signature_words s JOIN words w ON w.id = s.word_id"
+      " WHERE s.location_id=?");
+  query.Bind(1, static_cast<long long>(id));
+  std::unordered_map<WordId, std::vector<unsigned char>> descriptors;
+  while (query.Step()) descriptors.emplace(static_cast<WordId>(query.Int(0)), query.Blob(1));
+  query.Reset();
+  return descriptors;
+}
+
 std::string LtmDatabase::ReadInfo(const std::string& key) {
   auto& query = Cached("SELECT value FROM info WHERE key=?");
   query.Bind(1, key);

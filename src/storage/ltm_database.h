@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "detector/location.h"
@@ -122,6 +123,9 @@ class LtmDatabase {
 
   std::optional<Location> ReadLocation(LocationId id);
   std::optional<std::vector<unsigned char>> ReadWord(WordId id);
+  // The descriptors the map holds of location `id`'s words (those that left the dictionary), in
+  // one query: ReadWord for each word was a round trip each to a server (300 a location).
+  std::unordered_map<WordId, std::vector<unsigned char>> ReadSignatureDescriptors(LocationId id);
   std::vector<LoopClosureRecord> ReadLoopClosures();
   // Corrections of the loop closures (loop_closure_edits.h), in the order made; none before the
   // first.

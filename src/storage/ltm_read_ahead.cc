@@ -17,13 +17,7 @@ PrefetchedRows ReadRows(LtmDatabase& database, LocationId id, long long committe
   rows.committed = committed;
   database.Begin();
   rows.location = database.ReadLocation(id);
-  if (rows.location) {
-    for (WordId word : rows.location->signature.words) {
-      if (rows.words.count(word) > 0) continue;
-      if (auto descriptor = database.ReadWord(word))
-        rows.words.emplace(word, std::move(*descriptor));
-    }
-  }
+  if (rows.location) rows.words = database.ReadSignatureDescriptors(id);
   database.Commit();
   return rows;
 }

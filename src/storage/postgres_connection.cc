@@ -1,5 +1,6 @@
 #include "storage/postgres_connection.h"
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -42,6 +43,10 @@ class PostgresStatement : public SqlStatement {
                     const std::string& sql)
       : connection_(connection),
         name_(std::move(name)),
+        sql_(sql),
+        batched_(sql.rfind("INSERT", 0) == 0 &&
+                 sql.find("last_insert_rowid") == std::string::npos &&
+                 sql.find(" VALUES(") != std::string::npos && sql.back() == ')'),
         begins_(sql == "BEGIN"),
         commits_(sql == "COMMIT"),
         values_(parameters),
@@ -75,6 +80,7 @@ class PostgresStatement : public SqlStatement {
   }
   void Run() override {
     Reset();
+    if (batched_) return connection_.AddRow(sql_, values_, null_, binary_);
     const Parameters parameters = Gather();
     connection_.Send(name_, parameters.values, lengths_, binary_);
     if (begins_) connection_.SetInTransaction(true);
@@ -166,6 +172,8 @@ class PostgresStatement : public SqlStatement {
 
   PostgresConnection& connection_;
   std::string name_;
+  std::string sql_;
+  bool batched_;
   bool begins_;
   bool commits_;
   std::vector<int> lengths_;
@@ -267,8 +275,71 @@ PGresult* PostgresConnection::Synchronously(Work work) {
   return result;
 }
 
+void PostgresConnection::AddRow(const std::string& sql, const std::vector<std::string>& values,
+                                const std::vector<bool>& nulls, const std::vector<int>& binary) {
+  // A row of another statement, or (INSERT OR REPLACE) of a key held: ON CONFLICT cannot update
+  // a row twice in one statement.
+  const bool replaces = sql.rfind("INSERT OR REPLACE", 0) == 0;
+  if (batch_.rows > 0 &&
+      (batch_.sql != sql || (replaces && std::find(batch_.keys.begin(), batch_.keys.end(),
+                                                   values[0]) != batch_.keys.end()))) {
+    FlushRows();
+  }
+  batch_.sql = sql;
+  batch_.replaces = replaces;
+  batch_.values.insert(batch_.values.end(), values.begin(), values.end());
+  batch_.nulls.insert(batch_.nulls.end(), nulls.begin(), nulls.end());
+  batch_.binary.insert(batch_.binary.end(), binary.begin(), binary.end());
+  if (replaces) batch_.keys.push_back(values[0]);
+  if (++batch_.rows == kBatchRows) FlushRows();
+}
+
+const std::string& PostgresConnection::RowsStatement(const std::string& sql, int rows) {
+  auto found = row_statements_.find({sql, rows});
+  if (found != row_statements_.end()) return found->second;
+  const std::string tuple = sql.substr(sql.find(" VALUES(") + 7);
+  std::string text = sql;
+  for (int row = 1; row < rows; ++row) text += "," + tuple;
+  const std::string name = "memloop_" + std::to_string(statements_++);
+  const std::string translated = ToPostgresDialect(text);
+  Consume(Synchronously(
+              [&] { return PQprepare(connection_, name.c_str(), translated.c_str(), 0, nullptr); }),
+          "the server refused a statement");
+  texts_.emplace_back(name, translated);
+  return row_statements_.emplace(std::make_pair(sql, rows), name).first->second;
+}
+
+void PostgresConnection::FlushRows() {
+  if (batch_.rows == 0) return;
+  const RowBatch batch = std::move(batch_);  // RowsStatement drains: it must find none held
+  batch_ = RowBatch();
+  const size_t per_row = batch.values.size() / batch.rows;
+  for (int done = 0; done < batch.rows;) {
+    int rows = kBatchRows;
+    while (rows > batch.rows - done) rows /= 2;
+    const std::string& name = RowsStatement(batch.sql, rows);
+    std::vector<const char*> values;
+    std::vector<int> lengths;
+    const size_t first = done * per_row;
+    const size_t end = first + rows * per_row;
+    for (size_t k = first; k < end; ++k) {
+      values.push_back(batch.nulls[k] ? nullptr : batch.values[k].data());
+      lengths.push_back(static_cast<int>(batch.values[k].size()));
+    }
+    const std::vector<int> binary(batch.binary.begin() + first, batch.binary.begin() + end);
+    SendNow(name, values, lengths, binary);
+    done += rows;
+  }
+}
+
 void PostgresConnection::Send(const std::string& name, const std::vector<const char*>& values,
                               const std::vector<int>& lengths, const std::vector<int>& binary) {
+  FlushRows();
+  SendNow(name, values, lengths, binary);
+}
+
+void PostgresConnection::SendNow(const std::string& name, const std::vector<const char*>& values,
+                                 const std::vector<int>& lengths, const std::vector<int>& binary) {
   if (PQsendQueryPrepared(connection_, name.c_str(), static_cast<int>(values.size()), values.data(),
                           lengths.data(), binary.data(), 1) == 0) {
     ThrowFailure("cannot send a statement", ErrorOf(nullptr));
@@ -292,7 +363,7 @@ PGresult* PostgresConnection::QueryOnce(const std::string& name,
                                         const std::vector<const char*>& values,
                                         const std::vector<int>& lengths,
                                         const std::vector<int>& binary) {
-  Drain();
+  Drain();  // the rows held, then every answer
   if (PQsendQueryPrepared(connection_, name.c_str(), static_cast<int>(values.size()), values.data(),
                           lengths.data(), binary.data(), 1) == 0 ||
       PQpipelineSync(connection_) == 0) {
@@ -326,6 +397,7 @@ std::string PostgresConnection::ReadUntilSync() {
 }
 
 void PostgresConnection::Drain() {
+  FlushRows();
   if (unanswered_ == 0) return;
   unanswered_ = 0;
   if (PQpipelineSync(connection_) == 0) ThrowFailure("cannot reach the server", ErrorOf(nullptr));
@@ -346,6 +418,7 @@ double PostgresConnection::Reconnect() {
   };
   unanswered_ = 0;
   in_transaction_ = false;
+  batch_ = RowBatch();  // the transaction they were part of is gone
   for (;;) {
     PQreset(connection_);
     if (PQstatus(connection_) == CONNECTION_OK) break;
@@ -362,12 +435,9 @@ double PostgresConnection::Reconnect() {
   const std::vector<std::string> setup = std::move(setup_);
   for (const std::string& sql : setup) Setup(sql);
   for (const auto& [name, text] : texts_) {
-    PGresult* result = Synchronously(
-        [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); });
-    const bool prepared = PQresultStatus(result) == PGRES_COMMAND_OK;
-    const std::string message = prepared ? "" : ErrorOf(result);
-    PQclear(result);
-    if (!prepared) ThrowFailure("cannot prepare a statement again", message);
+    Consume(Synchronously(
+                [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); }),
+            "cannot prepare a statement again");
   }
   return waited();
 }
@@ -393,15 +463,17 @@ void PostgresConnection::Setup(const std::string& sql) {
   setup_.push_back(sql);
 }
 
-void PostgresConnection::Execute(const std::string& sql) {
-  PGresult* result = Synchronously([&] { return PQexec(connection_, sql.c_str()); });
-  try {
-    Check(result, "the server refused a statement");
-  } catch (...) {
-    PQclear(result);
-    throw;
-  }
+void PostgresConnection::Consume(PGresult* result, const std::string& what) const {
+  const ExecStatusType status = PQresultStatus(result);
+  const bool failed = status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK;
+  const std::string message = failed ? ErrorOf(result) : "";
   PQclear(result);
+  if (failed) ThrowFailure(what, message);
+}
+
+void PostgresConnection::Execute(const std::string& sql) {
+  Consume(Synchronously([&] { return PQexec(connection_, sql.c_str()); }),
+          "the server refused a statement");
 }
 
 std::unique_ptr<SqlStatement> PostgresConnection::Prepare(const std::string& sql) {
@@ -411,15 +483,9 @@ std::unique_ptr<SqlStatement> PostgresConnection::Prepare(const std::string& sql
   const std::string text = ToPostgresDialect(sql);
   for (int attempt = 0;; ++attempt) {
     try {
-      PGresult* result = Synchronously(
-          [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); });
-      try {
-        Check(result, "the server refused a statement");
-      } catch (...) {
-        PQclear(result);
-        throw;
-      }
-      PQclear(result);
+      Consume(Synchronously(
+                  [&] { return PQprepare(connection_, name.c_str(), text.c_str(), 0, nullptr); }),
+              "the server refused a statement");
       break;
     } catch (const ServerConnectionLost&) {
       if (in_transaction_ || attempt > 0) throw;  // as Query
