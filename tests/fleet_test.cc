@@ -81,10 +81,20 @@ RouteRun RunRoute(const std::string& map, MapMode mode = MapMode::kNew,
   return run;
 }
 
+// The demo route on a map file, once for the tests that compare with it.
+struct FileRun {
+  testing::TempDir dir;
+  RouteRun run = RunRoute(dir.File("map.db"));
+  MapInfo info = InspectMap(dir.File("map.db"));
+};
+const FileRun& OnAFile() {
+  static const FileRun file;
+  return file;
+}
+
 TEST_F(FleetTest, OneRobotOnTheServerFindsWhatItFindsOnAFile) {
   const std::string fleet = NewFleet("same_as_file", {"r1"});
-  testing::TempDir dir;
-  const RouteRun file = RunRoute(dir.File("map.db"));
+  const RouteRun& file = OnAFile().run;
   const RouteRun server = RunRoute(Server().Uri("r1", fleet));
   ASSERT_GT(file.loop_closures.size(), 5u);
   int retrievals = 0;
@@ -93,7 +103,7 @@ TEST_F(FleetTest, OneRobotOnTheServerFindsWhatItFindsOnAFile) {
   EXPECT_EQ(server.loop_closures, file.loop_closures);
   EXPECT_EQ(server.retrieved, file.retrieved);
 
-  const MapInfo on_file = InspectMap(dir.File("map.db"));
+  const MapInfo& on_file = OnAFile().info;
   const MapInfo on_server = InspectMap(Server().Uri("r1", fleet));
   EXPECT_EQ(on_server.integrity, "ok");
   EXPECT_EQ(on_server.locations, on_file.locations);
@@ -231,8 +241,7 @@ TEST_F(FleetTest, EachWayToBeRefusedIsOneClearLine) {
 // server, and the map ends as an uninterrupted run's, saying what happened.
 TEST_F(FleetTest, AServerRestartMidRunLosesNothing) {
   const std::string fleet = NewFleet("restarted", {"r1"});
-  testing::TempDir dir;
-  const RouteRun file = RunRoute(dir.File("map.db"));
+  const RouteRun& file = OnAFile().run;
   std::thread restart;
   const RouteRun server = RunRoute(Server().Uri("r1", fleet), MapMode::kNew, [&](int index) {
     if (index == 80) {
@@ -249,7 +258,7 @@ TEST_F(FleetTest, AServerRestartMidRunLosesNothing) {
   ASSERT_FALSE(server.notices.empty()) << "the restart went unnoticed";
   EXPECT_TRUE(Contains(server.notices.back(), "reconnected to the server after"))
       << server.notices.back();
-  const MapInfo on_file = InspectMap(dir.File("map.db"));
+  const MapInfo& on_file = OnAFile().info;
   const MapInfo on_server = InspectMap(Server().Uri("r1", fleet));
   EXPECT_EQ(on_server.integrity, "ok");
   EXPECT_EQ(on_server.locations, on_file.locations);
