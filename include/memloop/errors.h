@@ -3,10 +3,32 @@
 // and, when known, the fix. Programming errors are asserts, never these.
 #pragma once
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
 namespace memloop {
+
+// A map's name as messages show it: a server's URI (postgresql://...) without its password, in
+// the user part or as a parameter; any other name as it is.
+inline std::string WithoutPassword(std::string name) {
+  if (name.rfind("postgresql://", 0) != 0 && name.rfind("postgres://", 0) != 0) return name;
+  const size_t authority = name.find("://") + 3;
+  const size_t at = name.find('@', authority);
+  const size_t colon = name.find(':', authority);
+  if (at != std::string::npos && name.find_first_of("/?", authority) > at && colon < at) {
+    name.erase(colon, at - colon);
+  }
+  const size_t query = name.find('?');
+  for (size_t at = query;
+       query != std::string::npos && (at = name.find("password=", at)) != std::string::npos; ++at) {
+    if (name[at - 1] != '?' && name[at - 1] != '&') continue;  // another parameter's tail
+    const size_t value = at + 9;
+    const size_t end = std::min(name.find('&', value), name.size());
+    name.replace(value, end - value, "...");
+  }
+  return name;
+}
 
 class Error : public std::runtime_error {
  public:
@@ -27,8 +49,9 @@ class ParameterError : public Error {
 // A file or folder that cannot be used: missing, unreadable, corrupt, foreign.
 class InputError : public Error {
  public:
-  InputError(std::string path, const std::string& problem)
-      : Error(path + ": " + problem), path_(std::move(path)) {}
+  // A server's URI is named without its password (WithoutPassword).
+  InputError(const std::string& path, const std::string& problem)
+      : Error(WithoutPassword(path) + ": " + problem), path_(WithoutPassword(path)) {}
   const std::string& path() const { return path_; }
 
  private:

@@ -581,11 +581,11 @@ void LongTermMemory::CommitBatch(LtmDatabase& database, const std::deque<Queued>
       {
         std::lock_guard<std::mutex> lock(mutex_);
         server_lost_ = false;
-        char line[160];
-        std::snprintf(line, sizeof(line),
-                      "%s: reconnected to the server after %.1f s; %zu queued writes committed",
-                      path_.c_str(), waited, queue_.size() + batch.size());
-        notices_.push_back(line);
+        char seconds[32];
+        std::snprintf(seconds, sizeof(seconds), "%.1f", waited);
+        notices_.push_back(WithoutPassword(path_) + ": reconnected to the server after " + seconds +
+                           " s; committing the " + std::to_string(queue_.size() + batch.size()) +
+                           " writes queued");
       }
       if (database.ReadInfo("writer.batch") == mark) return;  // the commit had gone through
     }

@@ -240,13 +240,6 @@ std::string ToPostgresDialect(const std::string& sql) {
   return std::regex_replace(out, kLastRow, "lastval()");
 }
 
-std::string WithoutPassword(const std::string& uri) {
-  static const std::regex kPassword(R"(^(postgres(?:ql)?://[^:@/]*):[^@/]*@)");
-  static const std::regex kParameter(R"(([?&])password=[^&]*)");
-  return std::regex_replace(std::regex_replace(uri, kPassword, "$1@"), kParameter,
-                            "$1password=...");
-}
-
 PostgresConnection::PostgresConnection(const std::string& uri)
     : name_(WithoutPassword(uri)), uri_(uri) {
   connection_ = PQconnectdb(uri.c_str());

@@ -47,6 +47,14 @@ TEST(PostgresUriTest, APasswordIsNeverShown) {
   EXPECT_EQ(WithoutPassword("postgresql://r1@host/db"), "postgresql://r1@host/db");
 }
 
+TEST(PostgresUriTest, AnErrorNamingAServerMapShowsNoPassword) {
+  EXPECT_STREQ(DatabaseError("postgresql://r1:secret@host/db", "gone").what(),
+               "postgresql://r1@host/db: gone");
+  EXPECT_EQ(DatabaseError("postgresql://h/db?password=secret", "gone").path(),
+            "postgresql://h/db?password=...");
+  EXPECT_STREQ(InputError("/maps/a:b@c.db", "gone").what(), "/maps/a:b@c.db: gone");  // a file
+}
+
 TEST(PostgresUriTest, TheRobotIsTheUriUser) {
   EXPECT_EQ(RobotMapUri("postgresql://host/db", "r1"), "postgresql://host/db?user=r1");
   EXPECT_EQ(RobotMapUri("postgresql:///db?host=/run/pg", "robot 2"),

@@ -62,7 +62,4 @@ inline bool IsServerMap(const std::string& map) {
   return map.rfind("postgresql://", 0) == 0 || map.rfind("postgres://", 0) == 0;
 }
 
-// A server's URI as errors and logs show it: without its password (postgres_connection.cc).
-std::string WithoutPassword(const std::string& uri);
-
 }  // namespace memloop
