@@ -18,19 +18,8 @@ folders=("$@")
 [ ${#folders[@]} -gt 0 ] || folders=(../shared/datasets/lip6_outdoor/images)
 read -r -a extra <<<"${SETS:-}"
 sets=(memory.time_limit_ms=0 "${extra[@]}")
-bin=$(ls -d /usr/lib/postgresql/*/bin | sort -V | tail -1)
-work=$(mktemp -d)
-as=""
-if [ "$(id -u)" -eq 0 ]; then as="runuser -u postgres --"; chown postgres "$work"; fi
-stop() { $as "$bin/pg_ctl" -D "$work/data" -m immediate stop >/dev/null 2>&1 || true; rm -rf "$work"; }
-trap stop EXIT
-$as "$bin/initdb" --no-sync --auth=trust -U admin -D "$work/data" >/dev/null
-$as "$bin/pg_ctl" -D "$work/data" -l "$work/log" -w -o "-k $work -c listen_addresses=''" start >/dev/null
-psql() { command psql -h "$work" -U admin -qAt "$@"; }
-psql -d postgres -c "CREATE DATABASE fleet"
-uri="postgresql:///fleet?host=$work"
+source bench/private_server.sh
 "$memloop" fleet init "postgresql://admin@/fleet?host=$work" --robot r1 --robot r2 --robot r3 >/dev/null
-postmaster_cpu() { awk '{print ($14 + $15 + $16 + $17) / 100}' "/proc/$(head -1 "$work/data/postmaster.pid")/stat"; }
 rows_written() { psql -d fleet -c "SELECT sum(n_tup_ins + n_tup_upd + n_tup_del) FROM pg_stat_user_tables"; }
 
 # Median and max of iteration_ms, loop closures, and ltm_read_ms per retrieved location of a CSV.
@@ -76,8 +65,6 @@ if [ -n "${PAD:-}" ]; then
   echo
 fi
 
-seconds_since() { printf %.1f "$(echo "$(date +%s.%N) - $1" | bc)"; }
-
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d); memloop $(git rev-parse --short HEAD 2>/dev/null || echo '?'); --set ${sets[*]}"
 echo
 echo "| images | map | robots at once | median ms | max ms | loop closures | retrieved | read ms per retrieved | wall s | server rows/s of its CPU |"
@@ -97,9 +84,10 @@ for folder in "${folders[@]}"; do
   echo "| $name | server | 1 | $(summary "$work/server.csv") | $wall | $rate |"
   clear_robots
   start=$(date +%s.%N)
+  # The same images thrice: the robots do not import each other's places (all would match).
   for robot in r1 r2 r3; do
     "$memloop" run "$folder" --db "$uri" --robot $robot --out "$work/$robot.csv" \
-      --set "${sets[@]}" >/dev/null &
+      --set "${sets[@]}" memory.fleet_imports=0 >/dev/null &
   done
   wait
   echo "| $name | server (r1 of 3) | 3 | $(summary "$work/r1.csv") | $(seconds_since "$start") | |"

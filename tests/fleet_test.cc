@@ -14,11 +14,11 @@
 #include <thread>
 
 #include "cli_helpers.h"
+#include "fleet_fixture.h"
 #include "memloop/detector.h"
 #include "memloop/errors.h"
 #include "memloop/map_info.h"
 #include "memloop/synthetic_route.h"
-#include "postgres_server.h"
 #include "short_route.h"
 #include "small_memory.h"
 #include "storage/long_term_memory.h"
@@ -26,27 +26,9 @@
 namespace memloop {
 namespace {
 
+using testing::FleetTest;
 using testing::PostgresServer;
-
-// One server for the tests of this process (initdb takes a second or two), stopped at its exit.
-PostgresServer& Server() {
-  static PostgresServer server;
-  return server;
-}
-
-class FleetTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    if (!Server().why_not().empty()) GTEST_SKIP() << Server().why_not();
-  }
-  // A fresh database prepared for a fleet of `robots`.
-  std::string NewFleet(const std::string& name, const std::vector<std::string>& robots) {
-    Server().Admin("postgres", "DROP DATABASE IF EXISTS " + name);
-    Server().Admin("postgres", "CREATE DATABASE " + name);
-    InitFleet(Server().Uri(PostgresServer::kAdmin, name), robots);
-    return name;
-  }
-};
+using testing::Server;
 
 Options BudgetOptions() {
   Options options = Preset("default");
@@ -215,7 +197,7 @@ TEST_F(FleetTest, EachWayToBeRefusedIsOneClearLine) {
   } cases[] = {
       {"postgresql:///fleet?host=" + socket + "/absent", "cannot connect to the server"},
       {Server().Uri("r1", "no_such_database"), "database \"no_such_database\" does not exist"},
-      {"postgresql://pw_robot:wrong@/" + fleet + "?host=" + socket,
+      {Server().Uri("pw_robot:wrong", fleet),
        "password authentication failed for user \"pw_robot\""},
       {Server().Uri("r1", "bare"), "holds no memloop fleet: run `memloop fleet init`"},
       {Server().Uri("stranger", fleet), "the role stranger is not a robot of this fleet"},
@@ -226,7 +208,7 @@ TEST_F(FleetTest, EachWayToBeRefusedIsOneClearLine) {
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     EXPECT_FALSE(Contains(message, "wrong")) << "the password is shown: " << message;
   }
-  EXPECT_EQ(refusal("postgresql://pw_robot:right@/" + fleet + "?host=" + socket), "accepted");
+  EXPECT_EQ(refusal(Server().Uri("pw_robot:right", fleet)), "accepted");
   EXPECT_TRUE(Contains(refusal(Server().Uri("r1", fleet), MapMode::kResume),
                        "robot r1 has no map on this server"));
   {
@@ -306,6 +288,25 @@ TEST_F(FleetTest, AServerAwayPastTheQueueBoundStopsTheRunAtItsLastCheckpoint) {
   LtmDatabase map(Server().Uri("r1", fleet), LtmDatabase::Mode::kRead);
   EXPECT_EQ(map.ReadLocationIds(), expected);
   EXPECT_EQ(map.ReadState("marker"), std::vector<unsigned char>({1, 2, 3}));
+}
+
+// Over TCP the server takes TLS only: a robot's map goes through it with libpq's default
+// (sslmode=prefer: TLS when the server offers it) and when the URI insists on it.
+TEST_F(FleetTest, ARobotsMapTravelsOverTls) {
+  const std::string fleet = NewFleet("tls", {"r1"});
+  EXPECT_EQ(Server().RunAt(Server().TcpUri("r1", fleet),
+                           "SELECT ssl FROM pg_stat_ssl WHERE pid = pg_backend_pid()"),
+            "t");
+  testing::TempDir dir;
+  SyntheticRoute(testing::ShortRoute()).Write(dir.path().string());
+  const Outcome run = Memloop("run " + dir.File("images") + " --db '" +
+                              Server().TcpUri("r1", fleet, "sslmode=require") +
+                              "' --set memory.time_limit_ms=0 --out " + dir.File("run.csv"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_GT(RowsWithLoopClosure(ReadFile(dir.File("run.csv"))), 0);
+  const MapInfo map = InspectMap(Server().TcpUri("r1", fleet));
+  EXPECT_EQ(map.integrity, "ok");
+  EXPECT_GT(map.locations, 0);
 }
 
 TEST_F(FleetTest, TheToolRunsAndResumesARobotAfterKill9) {

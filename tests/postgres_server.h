@@ -1,12 +1,15 @@
 // A PostgreSQL server of the test's own: initdb and pg_ctl on a private folder, listening on a
-// Unix socket in it and on no TCP port, removed with everything in it at the end. As root (CI),
+// Unix socket in it and, with TLS only (a self-signed certificate made here), on a free TCP port
+// of 127.0.0.1, removed with everything in it at the end. As root (CI),
 // the server runs as the user postgres (initdb refuses root). Debian's postgresql-15 package
 // provides the programs (make test installs it). A watchman process stops the server and removes
 // the folder should the test process die without doing it (a crash, a kill -9, a timeout).
 #pragma once
 
 #include <libpq-fe.h>
+#include <netinet/in.h>
 #include <pwd.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -44,10 +47,24 @@ class PostgresServer {
     const Outcome init =
         Shell(as_ + bin_ + "/initdb --no-sync --auth=trust -U " + kAdmin + " -D " + Data());
     if (init.exit_code != 0) throw std::runtime_error("initdb failed: " + init.output);
-    // The robot pw_robot authenticates with a password (the refusal of a wrong one is tested).
+    // The robot pw_robot authenticates with a password (the refusal of a wrong one is tested);
+    // over TCP, only TLS is accepted.
     const std::string hba = Data() + "/pg_hba.conf";
-    const std::string rules = "local all pw_robot scram-sha-256\n" + ReadBytes(hba);
+    const std::string rules =
+        "local all pw_robot scram-sha-256\nhostnossl all all 0.0.0.0/0 reject\n"
+        "hostssl all all 127.0.0.1/32 trust\n" +
+        ReadBytes(hba);
     std::ofstream(hba) << rules;
+    const Outcome certificate =
+        Shell("cd " + Data() +
+              " && openssl req -new -x509 -days 2 -nodes -subj /CN=localhost -newkey ec "
+              "-pkeyopt ec_paramgen_curve:prime256v1 -keyout server.key -out server.crt && "
+              "chmod 600 server.key" +
+              (as_.empty() ? "" : " && chown postgres server.key server.crt"));
+    if (certificate.exit_code != 0) {
+      throw std::runtime_error("openssl could not make a certificate: " + certificate.output);
+    }
+    port_ = FreePort();
     Start();
     // The watchman: detached, it outlives a killed test process by at most a second.
     Shell("setsid sh -c 'while kill -0 " + std::to_string(getpid()) +
@@ -68,7 +85,8 @@ class PostgresServer {
   void Start() {
     const Outcome start =
         Shell(as_ + bin_ + "/pg_ctl -D " + Data() + " -l " + Data() + "/log -w -o \"-k " +
-              folder_.path().string() + " -c listen_addresses='' -c fsync=off\" start");
+              folder_.path().string() + " -c listen_addresses=127.0.0.1 -p " +
+              std::to_string(port_) + " -c ssl=on -c fsync=off\" start");
     if (start.exit_code != 0) throw std::runtime_error("pg_ctl start failed: " + start.output);
   }
   void Stop() {
@@ -79,16 +97,26 @@ class PostgresServer {
   // A libpq URI of `database` connecting as `user` through the private socket.
   std::string Uri(const std::string& user, const std::string& database = "fleet") const {
     return "postgresql://" + (user.empty() ? "" : user + "@") + "/" + database +
-           "?host=" + folder_.path().string();
+           "?host=" + folder_.path().string() + "&port=" + std::to_string(port_);
   }
-  // The folder of the socket: a URI's host.
+  // The same through TCP, where the server takes TLS only: libpq's default (sslmode=prefer)
+  // uses it, as `parameters` (e.g. "sslmode=require") may insist.
+  std::string TcpUri(const std::string& user, const std::string& database,
+                     const std::string& parameters = "") const {
+    return "postgresql://" + user + "@127.0.0.1:" + std::to_string(port_) + "/" + database +
+           (parameters.empty() ? "" : "?" + parameters);
+  }
+  // The folder of the socket: a URI's host (the socket is named for the server's port).
   std::string SocketFolder() const { return folder_.path().string(); }
 
   // Runs `sql` as `user` on `database`; returns the first value of its result, the count of
   // rows changed for a command, or "ERROR: <message>" when the server refuses it.
   std::string Run(const std::string& user, const std::string& database,
                   const std::string& sql) const {
-    PGconn* connection = PQconnectdb(Uri(user, database).c_str());
+    return RunAt(Uri(user, database), sql);
+  }
+  std::string RunAt(const std::string& uri, const std::string& sql) const {
+    PGconn* connection = PQconnectdb(uri.c_str());
     PQsetNoticeProcessor(
         connection, [](void*, const char*) {}, nullptr);
     std::string answer;
@@ -116,11 +144,27 @@ class PostgresServer {
 
  private:
   std::string Data() const { return folder_.path().string() + "/data"; }
+  // A TCP port of 127.0.0.1 no one listens on (the kernel's choice, released for the server).
+  static int FreePort() {
+    const int probe = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t size = sizeof(address);
+    if (bind(probe, reinterpret_cast<sockaddr*>(&address), size) != 0 ||
+        getsockname(probe, reinterpret_cast<sockaddr*>(&address), &size) != 0) {
+      close(probe);
+      throw std::runtime_error("no free TCP port for the server");
+    }
+    close(probe);
+    return ntohs(address.sin_port);
+  }
 
   TempDir folder_;
   std::string bin_;
   std::string as_;
   std::string why_not_;
+  int port_ = 0;
 };
 
 }  // namespace memloop::testing

@@ -78,6 +78,13 @@ class Detector {
   // Writes a checkpoint and waits until it is committed with everything before it: a crash
   // after Flush() loses nothing (memory.checkpoint_interval bounds the loss otherwise).
   void Flush();
+
+  // A fleet's map (a server map with --robot; docs/fleet.md): the places other robots have stored
+  // so far join this robot's map now, all of them, instead of memory.fleet_imports an image (a
+  // robot joining a fleet, as a map is loaded before a mission). Waits up to `seconds` for each
+  // read of the server; throws DatabaseError when it does not answer. Returns how many joined
+  // (0 when the map is not a fleet's).
+  size_t CatchUpWithFleet(double seconds = 30);
   // The image of the last Process() call; for a resumed map, of the last checkpoint until then.
   // kNoImage before any image.
   ImageIndex last_image() const;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,6 +31,19 @@ struct MapLoopClosure {
   double probability = 0;       // the hypothesis value that accepted it (0 for one added by hand)
   LoopClosurePose pose;         // estimated = false in maps made before it was kept
   long long added_by_edit = 0;  // the edit that added it (loop_closure_edits.h), 0 when detected
+  // A fleet's map: the robot that mapped the matched place when it is another robot's (then
+  // match_image is that robot's image); empty for the map's own places.
+  std::string match_robot;
+};
+
+// A fleet's map: a place another robot mapped, a copy of which joined this robot's map as
+// location `location` (docs/fleet.md).
+struct ForeignPlace {
+  LocationId location = kNoLocation;
+  std::string robot;
+  LocationId origin_location = kNoLocation;  // the other robot's id of it
+  std::vector<ImageIndex> images;            // the other robot's images of it
+  ImageIndex imported_image = kNoImage;      // this map's image at whose iteration it joined
 };
 
 // An image of the map: what Detector::Process was told of it (ImageInfo).
@@ -69,6 +83,8 @@ struct MapInfo {
   std::vector<MapLoopClosure> loop_closures;
   long long edits = 0;                   // edits in force (not undone)
   long long rejected_loop_closures = 0;  // detected, then rejected by an edit
+  // A fleet's map: places of other robots that joined this robot's map, by robot.
+  std::map<std::string, long long> foreign_places;
   // Empty for a map made before memloop recorded images (format 4 without the images table).
   std::vector<MapSession> sessions;
   std::vector<std::pair<std::string, std::string>> parameters;  // name, value as stored

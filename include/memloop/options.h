@@ -229,6 +229,11 @@ struct MemoryOptions {
   // whole neighbourhood left WM can still be recognized. 0: only the highest hypothesis'
   // neighbours are retrieved (the paper, III-E).
   int appearance_retrieval = 1;
+  // A fleet's map (a server map with --robot): places of other robots that join this robot's WM
+  // per image (as retrieved places do), read from the server in the background (fleet_places.h).
+  // Each costs about a quantization of an image's features. 0: other robots' places are not
+  // searched.
+  int fleet_imports = 4;
   // Entries of the fixed vocabulary that describes locations for retrieval by appearance: the
   // dictionary's first words, copied as they are created. 32,768 (8,192 until 2026-12-03): with
   // appearance_max_postings, the rarest entries still tell a million places apart

@@ -63,6 +63,9 @@ struct Result {
   // Images of the highest hypothesis' location, so that a precision-recall curve can judge every
   // hypothesis against ground truth, accepted or not.
   std::vector<ImageIndex> hypothesis_images;
+  // A fleet's map: the robot whose images those are when the location is another robot's place
+  // (empty: this map's own).
+  std::string hypothesis_robot;
   // True when T_loop alone decided the hypothesis: WM held T_minHyp locations and, with
   // verification on, it passed the epipolar check. A precision-recall curve sweeps T_loop over
   // eligible hypotheses only (others are refused at any threshold).
@@ -78,6 +81,7 @@ struct Result {
   // Images of the matched location, the matched image first: the one whose keypoints it holds
   // (Rehearsal may have given it an older image's), which loop_closure_geometry's pose is to.
   std::vector<ImageIndex> loop_closure_images;
+  std::string loop_closure_robot;  // as hypothesis_robot
   // With camera.fx and camera.fy set: the geometry between the image and the matched location's
   // view (epipolar inliers, relative pose), as `memloop export` gives it; empty otherwise.
   LoopGeometry loop_closure_geometry;
@@ -94,6 +98,8 @@ struct Result {
   LocationId appearance_match_id = kNoLocation;
   double appearance_match_z = 0;
   std::vector<LocationId> transferred_ids;  // WM -> LTM this iteration
+  // A fleet's map: places of other robots that joined WM this iteration (memory.fleet_imports).
+  std::vector<LocationId> fleet_imported_ids;
 
   int stm_size = 0;         // locations
   int wm_size = 0;          // locations
@@ -118,7 +124,8 @@ struct Result {
   std::vector<std::string> map_notices;
 
   bool HasLoopClosure() const { return loop_closure_id != kNoLocation; }
-  // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62"; in
+  // One line: "image 41 -> location 38: loop closure with location 3 (image 2), p=0.62" (with
+  // "robot b image 2" for another robot's place); in
   // localization "image 41: localized at location 3 (image 2), p=0.62".
   std::string Brief() const;
 };

@@ -61,6 +61,10 @@ struct RunRow {
   double timestamp = kNoTimestamp;  // seconds; unknown in CSVs without it
   int session = 0;
   std::string time_decided;  // Result::time_decided; empty in CSVs without it
+  // A fleet's map: the robot whose images matched_images (hypothesis_images) are when the place is
+  // another robot's; empty for the run's own places (and in CSVs without the columns).
+  std::string matched_robot;
+  std::string hypothesis_robot;
 };
 
 // Reads a CSV written by RunCsvWriter. Throws InputError naming the file and, for a malformed

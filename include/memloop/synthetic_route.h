@@ -40,6 +40,14 @@ struct SyntheticRouteOptions {
   double wall_distance_m = 2;
 };
 
+// A stretch of a route: `frames` steps along the loop or the detours' corridor, from step
+// `first_step` (a step is SyntheticRouteOptions::step_px).
+struct RouteSegment {
+  bool in_loop = true;
+  int first_step = 0;
+  int frames = 0;
+};
+
 // A camera pose in a world frame (z up): position in metres and the camera's rotation as a
 // quaternion x, y, z, w (camera frame: x right, y down, z forward), as a TUM trajectory gives it.
 struct CameraPose {
@@ -50,6 +58,14 @@ struct CameraPose {
 class SyntheticRoute {
  public:
   explicit SyntheticRoute(const SyntheticRouteOptions& options = {});
+  // Another route over the same world (the options' seed; the detours' corridor `detour_steps`
+  // long): `plan`'s segments in order, each pass of the loop a visit of its own. `robot` > 0 sees
+  // it with other jitter and noise (fleet_routes.h); robot 0 with the default plan is the route
+  // above. Pose() assumes the default plan's detours. Throws Error for a detour past the corridor.
+  SyntheticRoute(const SyntheticRouteOptions& options, const std::vector<RouteSegment>& plan,
+                 int robot, int detour_steps);
+  static std::vector<RouteSegment> DefaultPlan(const SyntheticRouteOptions& options);
+  static int DetourSteps(const std::vector<RouteSegment>& plan);
 
   int size() const { return static_cast<int>(frames_.size()); }
   // Frame `index` (0-based), 8-bit BGR, image_width x image_height.
@@ -64,6 +80,9 @@ class SyntheticRoute {
   memloop::GroundTruth Truth() const;
   // Every (query, match) with match < query and IsLoop(query, match).
   std::vector<std::pair<int, int>> GroundTruthPairs() const;
+  // Whether frame `frame` and frame `other_frame` of `other`, a route over the same world, show
+  // the same place (both on the loop, their views this close: same_place_fraction).
+  bool SamePlace(int frame, const SyntheticRoute& other, int other_frame) const;
   // Where the camera was at frame `index`: the ground truth of a pose graph.
   CameraPose Pose(int index) const;
   // The depth of every pixel of frame `index`, in metres: the wall, square on, at the frame's
@@ -88,6 +107,7 @@ class SyntheticRoute {
   };
 
   SyntheticRouteOptions options_;
+  int robot_ = 0;
   double loop_length_ = 0;
   cv::Mat world_;  // [loop | first view widths of the loop again | detour], gray
   std::vector<Frame> frames_;

@@ -8,6 +8,7 @@
 #include "detector/checkpoint.h"
 #include "detector/consistency.h"
 #include "detector/detector_setup.h"
+#include "detector/fleet_places.h"
 #include "detector/hypothesis.h"
 #include "detector/image_view.h"
 #include "detector/likelihood.h"
@@ -50,6 +51,7 @@ class Detector::Impl {
     const bool extends = localizing_ || (mode != MapMode::kNew && !HoldsNoImage(database_path));
     if (extends) Resume(database_path);  // nothing written before
     if (extends && mode == MapMode::kNewSession && !localizing_) StartSession();
+    FollowFleet(database_path);
     WaitForDueRebuildsWithinTime();
     if (localizing_) {
       MoveStmToWm();
@@ -89,6 +91,10 @@ class Detector::Impl {
   void Flush() {
     if (!failed_ && !closed_ && !localizing_) WriteCheckpoint();
     ltm_.Flush();
+  }
+  size_t CatchUpWithFleet(double seconds) {
+    if (closed_ || failed_) throw Error("Detector::CatchUpWithFleet called after Close()");
+    return fleet_.CatchUp(seconds, counters_.last_image, memory_, ltm_, filter_, appearance_.get());
   }
   ImageIndex last_image() const { return counters_.last_image; }
   long long images_processed() const { return counters_.images_processed; }
@@ -148,6 +154,7 @@ class Detector::Impl {
     CloseLoop(t, hypothesis, neighbourhoods, result);                                  // III-D
     RetrieveFromLtm(iteration, hypothesis, DescriptionOf(t), result);                  // III-E
     TransferToLtm(iteration, hypothesis, result);                                      // III-F
+    ImportFleetPlaces(iteration, result);  // a fleet's map: other robots' places join WM
     checkpoint_due_ = counters_.images_processed % options_.memory.checkpoint_interval == 0;
     Summarize(t, z_t, iteration, result);
     return result;
@@ -234,6 +241,7 @@ class Detector::Impl {
     CheckMapParameters(database, options_);
     const std::string use = localizing_ ? "localize against it" : "resume";
     counters_ = RestoreCheckpoint(database, memory_, filter_, editor_, retrieved_kept_last_, use);
+    fleet_.Reload(database);
     for (const auto& [id, location] : memory_.locations()) ltm_.Exclude(id);
     if (appearance_) ReloadAppearance(database, memory_, ltm_, *appearance_);
     sessions_.Resume(database.ReadSessions(), counters_.last_image);
@@ -401,11 +409,14 @@ class Detector::Impl {
     result.hypothesis_id = hypothesis.id;
     result.hypothesis_eligible = hypothesis.eligible;
     result.hypothesis_value = hypothesis.value;
-    if (hypothesis.id != kNoLocation) result.hypothesis_images = memory_.at(hypothesis.id).images;
+    if (hypothesis.id != kNoLocation) {
+      result.hypothesis_images = ImagesOf(hypothesis.id, &result.hypothesis_robot);
+    }
     result.virtual_place_probability = filter_.virtual_place();
     if (hypothesis.accepted) {
       result.loop_closure_id = hypothesis.id;
       result.loop_closure_images = result.hypothesis_images;
+      result.loop_closure_robot = result.hypothesis_robot;
     }
     return hypothesis;
   }
@@ -424,8 +435,9 @@ class Detector::Impl {
   void AcceptLoopClosure(LocationId t, const Hypothesis& hypothesis, Result& result) {
     const LocationId i = hypothesis.id;
     memory_.at(t).weight += memory_.at(i).weight + 1;
-    editor_.LinkLoopClosure(t, i);
-    result.loop_closure_images = memory_.at(i).images;  // with the past matches it absorbed
+    const ForeignPlace* foreign = fleet_.Find(i);
+    editor_.LinkLoopClosure(t, i, /*absorbed=*/foreign == nullptr);        // another robot's stays
+    result.loop_closure_images = ImagesOf(i, &result.loop_closure_robot);  // with absorbed ones
     // camera.fx..cy: the pose for a SLAM back-end, from this image's and L_i's keypoints.
     result.loop_closure_geometry =
         DescribeLoopClosure(image_view_, result.image_index, memory_.at(i), memory_.dictionary(),
@@ -435,8 +447,35 @@ class Detector::Impl {
     const auto view =
         std::find(images.begin(), images.end(), result.loop_closure_geometry.match_view);
     if (view != images.end()) std::rotate(images.begin(), view, view + 1);
-    ltm_.RecordLoopClosure({result.image_index, images.front(), t, i, hypothesis.value,
-                            KeptPose(result.loop_closure_geometry, options_.camera.fx > 0)});
+    ltm_.RecordLoopClosure({result.image_index, images.empty() ? kNoImage : images.front(), t, i,
+                            hypothesis.value,
+                            KeptPose(result.loop_closure_geometry, options_.camera.fx > 0),
+                            /*added_by_edit=*/0, result.loop_closure_robot});
+  }
+
+  // The images location `id` stands for; of another robot (`robot` receives its name) when it is
+  // that robot's place.
+  std::vector<ImageIndex> ImagesOf(LocationId id, std::string* robot) const {
+    const ForeignPlace* foreign = fleet_.Find(id);
+    *robot = foreign ? foreign->robot : "";
+    return foreign ? foreign->images : memory_.at(id).images;
+  }
+
+  // A fleet's map: places other robots stored since, at most memory.fleet_imports an image,
+  // join WM as retrieved places do (fleet_places.h).
+  void FollowFleet(const std::string& path) {
+    if (IsServerMap(path) && !localizing_ && options_.memory.fleet_imports > 0) {
+      fleet_.Follow(path, memory_.dictionary().descriptor_cv_type(), extractor_->DescriptorDim());
+    }
+  }
+  // Under T_time, only while the iteration is within half of its time target.
+  void ImportFleetPlaces(const Stopwatch& iteration, Result& result) {
+    ScopedTimer timer(&result.times.retrieval_ms);
+    const double target_ms = options_.memory.time_target * options_.memory.time_limit_ms;
+    if (!fleet_.following() || (target_ms > 0 && iteration.ElapsedMs() > 0.5 * target_ms)) return;
+    result.fleet_imported_ids =
+        fleet_.Import(static_cast<size_t>(options_.memory.fleet_imports), result.image_index,
+                      memory_, ltm_, filter_, appearance_.get());
   }
 
   // Past matches L_i out of the highest hypothesis' neighbourhood are deleted into the location
@@ -544,6 +583,7 @@ class Detector::Impl {
     result.ltm_size = static_cast<int>(ltm_.size());
     result.dictionary_size = static_cast<int>(memory_.dictionary().size());
     result.map_notices = ltm_.TakeNotices();
+    for (std::string& notice : fleet_.TakeNotices()) result.map_notices.push_back(notice);
     result.times.ltm_wait_ms = ltm_.TakeWriterWaitMs();
     result.times.ltm_read_ms = ltm_.TakeFileReadMs();
     result.times.cpu_ms = ThreadCpuMs() - iteration_cpu_start_ms_;
@@ -592,6 +632,7 @@ class Detector::Impl {
   LoopAcceptance acceptance_{options_, memory_, ltm_, appearance_.get()};  // III-D's checks
   bool closed_ = false;
   SessionNumbering sessions_;
+  FleetPlaces fleet_;  // a fleet's map: other robots' places, imported
 };
 
 Detector::Detector(const Options& options, const std::string& database_path, MapMode mode)
@@ -618,6 +659,7 @@ Result Detector::Process(const cv::Mat& image, const cv::Mat& depth, const Image
 }
 
 void Detector::Flush() { impl_->Flush(); }
+size_t Detector::CatchUpWithFleet(double seconds) { return impl_->CatchUpWithFleet(seconds); }
 ImageIndex Detector::last_image() const { return impl_->last_image(); }
 long long Detector::images_processed() const { return impl_->images_processed(); }
 int Detector::session() const { return impl_->session(); }

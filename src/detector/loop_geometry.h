@@ -18,7 +18,10 @@ namespace memloop {
 // The image a location's keypoints were seen in: its signature's (Rehearsal gives a newer
 // location an older one's signature), else, in maps made before it was recorded, its first.
 inline ImageIndex ViewOf(const Location& location) {
-  return location.signature.image != kNoImage ? location.signature.image : location.images.front();
+  // kNoImage for another robot's place (fleet_places.h): no image of this map.
+  if (location.signature.image != kNoImage || location.images.empty())
+    return location.signature.image;
+  return location.images.front();
 }
 
 // A rotation matrix's quaternion x, y, z, w (w >= 0), and the rotation of a quaternion (of any

@@ -16,11 +16,11 @@ void MapEditor::ReleaseWords(const std::vector<WordId>& orphans) {
   }
 }
 
-void MapEditor::LinkLoopClosure(LocationId t, LocationId i) {
+void MapEditor::LinkLoopClosure(LocationId t, LocationId i, bool absorbed) {
   for (const LinkToLtm& link : memory_.AddLinksOf(t, i, /*link_together=*/true)) {
     ltm_.AddLink(link.ltm_location, t, link.loop_closure);
   }
-  past_matches_.push_back({i, t});
+  if (absorbed) past_matches_.push_back({i, t});
 }
 
 void MapEditor::ReplaceSignature(LocationId id, Signature signature) {

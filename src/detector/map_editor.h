@@ -33,8 +33,9 @@ class MapEditor {
             AppearanceIndex* appearance = nullptr);
 
   // III-D: L_t takes L_i's links (neighbours and loop closures) and a loop-closure link to L_i,
-  // both ways, in LTM too. L_i then waits to be absorbed into L_t (AbsorbPastMatches).
-  void LinkLoopClosure(LocationId t, LocationId i);
+  // both ways, in LTM too. L_i then waits to be absorbed into L_t (AbsorbPastMatches), unless
+  // not `absorbed`: a place of another robot stays as it is, the other robot's place.
+  void LinkLoopClosure(LocationId t, LocationId i, bool absorbed = true);
 
   // Rehearsal (III-B): z_t becomes `signature`; words left without reference are released.
   void ReplaceSignature(LocationId id, Signature signature);

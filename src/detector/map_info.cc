@@ -53,6 +53,7 @@ MapInfo InspectMap(const std::string& path, MapCheck check) {
   info.last_image = static_cast<ImageIndex>(
       database.QueryNumber("SELECT coalesce(max(image), -1) FROM location_images"));
   if (checkpoint_problem.empty()) AddCheckpoint(database, info);  // else what LTM holds alone
+  for (const ForeignPlace& place : database.ReadForeignPlaces()) ++info.foreign_places[place.robot];
   const std::vector<MapLoopClosure> detected = database.ReadLoopClosures();
   const std::vector<LoopClosureEdit> edits = database.ReadEdits();
   info.loop_closures = EditedLoopClosures(detected, edits);

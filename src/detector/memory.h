@@ -77,6 +77,8 @@ class Memory {
   void Reload(std::map<LocationId, Location> locations, const std::deque<LocationId>& stm,
               LocationId next_id);
   LocationId next_id() const { return next_id_; }
+  // An id for a location made outside memory (a place of another robot, imported into LTM).
+  LocationId ReserveId() { return next_id_++; }
 
   // Locations given out mutably, added, restored or removed (transferred, absorbed) since
   // ClearChanged(): the checkpoint looks at these alone. ClearChanged() also clears the

@@ -157,6 +157,8 @@ std::vector<Parameter> MakeRegistry() {
         .Range(0, 100000).Help("With T_time on, an image's checkpoint is skipped while the previous one is still being committed, at most this many in a row; a crash then loses up to as many images more (0 = always waited for)"),
     Param("memory.appearance_retrieval", MEMLOOP_FIELD(memory.appearance_retrieval)).Flag()
         .Help("true: the LTM location that looks most like the image is retrieved with its neighbours when it stands out (false = only the highest hypothesis' neighbours, the paper)"),
+    Param("memory.fleet_imports", MEMLOOP_FIELD(memory.fleet_imports)).Unit("places")
+        .Range(0, 100000).Help("A fleet's map (a server map with --robot): places other robots stored that join this robot's WM per image, as retrieved places do, read from the server in the background; under T_time only while the iteration is within half its target (0 = other robots' places are not searched)"),
     Param("memory.appearance_vocabulary", MEMLOOP_FIELD(memory.appearance_vocabulary)).Unit("words")
         .Range(16, 1000000).Help("Entries of the fixed vocabulary (the dictionary's first words) that describes locations for retrieval by appearance"),
     Param("memory.appearance_min_z", MEMLOOP_FIELD(memory.appearance_min_z)).Range(0, 1000)

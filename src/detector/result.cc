@@ -23,9 +23,11 @@ std::string Result::Brief() const {
                     image_index, hypothesis_id, hypothesis_value);
     }
   } else if (HasLoopClosure()) {
+    // Another robot's place (a fleet's map): its robot names the image.
+    const std::string robot = loop_closure_robot.empty() ? "" : "robot " + loop_closure_robot + " ";
     std::snprintf(text, sizeof(text),
-                  "image %d -> location %d: loop closure with location %d (image %d), p=%.3f",
-                  image_index, location_id, loop_closure_id,
+                  "image %d -> location %d: loop closure with location %d (%simage %d), p=%.3f",
+                  image_index, location_id, loop_closure_id, robot.c_str(),
                   loop_closure_images.empty() ? kNoImage : loop_closure_images.front(),
                   hypothesis_value);
   } else {

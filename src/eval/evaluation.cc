@@ -94,12 +94,16 @@ RunEvaluation EvaluateRun(const std::vector<RunRow>& rows, const GroundTruth& tr
     evaluation.images += 1;
     evaluation.max_wm_size = std::max(evaluation.max_wm_size, row.wm_size);
     evaluation.max_dictionary_size = std::max(evaluation.max_dictionary_size, row.dictionary_size);
-    if (!row.matched_images.empty()) accepted.push_back({row.image, row.matched_images});
+    // Another robot's places (a fleet's map) are judged by EvaluateFleet, not by this run's truth.
+    if (!row.matched_images.empty() && row.matched_robot.empty()) {
+      accepted.push_back({row.image, row.matched_images});
+    }
     if (!row.time_decided.empty() && evaluation.time_decided_iterations++ == 0) {
       evaluation.first_time_decided = row.image;
       evaluation.first_time_decided_what = row.time_decided;
     }
-    if (row.hypothesis_id != kNoLocation && row.hypothesis_eligible) {
+    if (row.hypothesis_id != kNoLocation && row.hypothesis_eligible &&
+        row.hypothesis_robot.empty()) {
       hypotheses.push_back({row.hypothesis_value, Judge(row.image, row.hypothesis_images, truth)});
     }
   }

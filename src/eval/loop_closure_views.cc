@@ -137,7 +137,7 @@ std::vector<LoopClosureView> AcceptedLoopClosures(const std::vector<RunRow>& row
                                                   const GroundTruth* truth) {
   std::vector<LoopClosureView> views;
   for (const RunRow& row : rows) {
-    if (row.matched_images.empty()) continue;
+    if (row.matched_images.empty() || !row.matched_robot.empty()) continue;  // own places
     LoopClosureView view{row.image, row.matched_images.front(), row.hypothesis_value, ""};
     if (truth != nullptr) {
       const Verdict verdict = Judge(row.image, row.matched_images, *truth);

@@ -49,23 +49,47 @@ std::vector<ExportedLoopClosure> ExportLoopClosures(const std::string& map_path,
     unknown.index = index;
     return unknown;
   };
+  // A fleet's map: the images of other robots whose places loop closures name.
+  std::map<std::string, std::map<ImageIndex, MapImage>> others;
+  const auto other_image = [&](const std::string& robot, ImageIndex index) {
+    if (!others.count(robot)) {
+      for (MapImage& image : database.ReadImagesOf(robot)) others[robot][image.index] = image;
+    }
+    const auto found = others[robot].find(index);
+    if (found != others[robot].end()) return found->second;
+    MapImage unknown;
+    unknown.index = index;
+    return unknown;
+  };
   std::vector<ExportedLoopClosure> loops;
   // As edited: the rejected ones left out, those added by hand in (their pose estimated below).
   for (const MapLoopClosure& loop :
        EditedLoopClosures(database.ReadLoopClosures(), database.ReadEdits())) {
-    ExportedLoopClosure exported{loop, image_of(loop.query_image), image_of(loop.match_image), {}};
+    const bool foreign = !loop.match_robot.empty();
+    ExportedLoopClosure exported{
+        loop,
+        image_of(loop.query_image),
+        foreign ? other_image(loop.match_robot, loop.match_image) : image_of(loop.match_image),
+        {}};
     const auto query = holder.find(loop.query_image);
-    const auto match = holder.find(loop.match_image);
-    if (query != holder.end() && match != holder.end() && query->second != match->second) {
+    // Another robot's place is its own location (never merged), its images the other robot's.
+    const auto match = foreign ? holder.end() : holder.find(loop.match_image);
+    const LocationId match_id =
+        foreign ? loop.match_location : (match == holder.end() ? kNoLocation : match->second);
+    const std::optional<Location> foreign_location =
+        foreign ? database.ReadLocation(match_id) : std::nullopt;
+    if (query != holder.end() && (match != holder.end() || foreign_location) &&
+        query->second != match_id) {
       const Location query_location = *database.ReadLocation(query->second);
-      const Location match_location = *database.ReadLocation(match->second);
+      const Location match_location =
+          foreign ? *foreign_location : *database.ReadLocation(match_id);
       exported.geometry = EstimateLoopGeometry(query_location.signature, match_location.signature,
                                                intrinsics, options.verification);
       exported.geometry.query_view = ViewOf(query_location);
       exported.geometry.match_view = ViewOf(match_location);
       if (!loop.pose.estimated) {  // the pose joins the views (their keypoints' images)
         exported.query = image_of(exported.geometry.query_view);
-        exported.match = image_of(exported.geometry.match_view);
+        if (!foreign) exported.match = image_of(exported.geometry.match_view);
       }
     } else {
       exported.geometry.pose_problem = "a view is not in the map's LTM (the map is not closed)";

@@ -45,9 +45,14 @@ struct Rigid {
   }
 };
 
+// "image " or, for another robot's place (a fleet's map), "robot b image ".
+std::string MatchName(const ExportedLoopClosure& loop) {
+  return loop.loop.match_robot.empty() ? "image " : "robot " + loop.loop.match_robot + " image ";
+}
+
 // A loop closure without a pose, as a comment line saying why.
 void WriteNoPose(const ExportedLoopClosure& loop, std::ostream& out) {
-  out << "# image " << loop.query.index << " -> image " << loop.match.index
+  out << "# image " << loop.query.index << " -> " << MatchName(loop) << loop.match.index
       << ": no relative pose (" << loop.geometry.pose_problem << ")\n";
 }
 
@@ -140,6 +145,11 @@ void WriteG2o(const std::vector<ExportedLoopClosure>& loops, const std::vector<M
       WriteNoPose(loop, out);
       continue;
     }
+    if (!loop.loop.match_robot.empty()) {  // not a vertex of this robot's graph
+      out << "# image " << loop.query.index << " -> " << MatchName(loop) << loop.match.index
+          << ": another robot's place (its pose: memloop export --format pairs or json)\n";
+      continue;
+    }
     WriteEdge(out, loop.match.index, loop.query.index, BaseEdge(g, camera_to_base),
               g.translation_metric ? kLoopMetricTranslationInformation : kLoopDirectionInformation,
               kLoopRotationInformation);
@@ -162,11 +172,14 @@ void WritePairs(const std::vector<ExportedLoopClosure>& loops, std::ostream& out
       continue;
     }
     char text[512];
-    std::snprintf(text, sizeof(text), "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %d\n",
+    std::snprintf(text, sizeof(text), "%.6f %.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %d",
                   stamp(loop.query), stamp(loop.match), g.translation[0], g.translation[1],
                   g.translation[2], g.quaternion[0], g.quaternion[1], g.quaternion[2],
                   g.quaternion[3], g.translation_metric ? 1 : 0);
     out << text;
+    // Another robot's place: the line ends with that robot's name (its time stamp is its own).
+    if (!loop.loop.match_robot.empty()) out << " " << loop.loop.match_robot;
+    out << "\n";
   }
 }
 

@@ -11,8 +11,10 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
+#include "eval/csv_line.h"
 #include "memloop/errors.h"
 
 namespace memloop {
@@ -39,7 +41,10 @@ constexpr const char* kHeader =
     "transfer_ms,checkpoint_ms,stm_size,wm_size,ltm_size,dictionary_size,retrieved,transferred,"
     "ltm_wait_ms,cpu_ms,ltm_read_ms,timestamp,session,features_skipped,appearance_match,"
     "appearance_z,rel_tx,rel_ty,rel_tz,rel_qx,rel_qy,rel_qz,rel_qw,rel_metric,pose_reason,"
-    "time_decided";
+    "matched_robot,hypothesis_robot,time_decided";
+
+// A name in quotes, or nothing for none.
+std::string QuotedName(const std::string& name) { return name.empty() ? "" : Quoted(name); }
 
 // Seconds to the microsecond (TUM's resolution; EuRoC's nanoseconds are beyond a double's
 // precision at today's epoch anyway); empty when unknown.
@@ -199,8 +204,8 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   std::ostringstream row;
   row << result.image_index << ',' << Quoted(image_name) << ',' << result.location_id << ',';
   if (result.HasLoopClosure()) {
-    row << result.loop_closure_images.front() << ',' << result.loop_closure_id << ','
-        << Join(result.loop_closure_images);
+    row << (result.loop_closure_images.empty() ? kNoImage : result.loop_closure_images.front())
+        << ',' << result.loop_closure_id << ',' << Join(result.loop_closure_images);
   } else {
     row << ",,";
   }
@@ -220,7 +225,9 @@ void RunCsvWriter::Write(const std::string& image_name, const Result& result) {
   } else {
     row << ',';
   }
-  row << ',' << RelativePose(result) << ',' << result.time_decided << '\n';
+  row << ',' << RelativePose(result) << ','
+      << QuotedName(result.HasLoopClosure() ? result.loop_closure_robot : "") << ','
+      << QuotedName(result.hypothesis_robot) << ',' << result.time_decided << '\n';
   const std::string text = row.str();
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
@@ -244,6 +251,8 @@ std::string Format(double value) {
   return text.str();
 }
 
+}  // namespace
+
 // Splits one CSV line; fields may be quoted ("a,b" and "" for a quote inside).
 std::vector<std::string> SplitCsvLine(const std::string& line) {
   std::vector<std::string> fields(1);
@@ -263,8 +272,6 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
   }
   return fields;
 }
-
-}  // namespace
 
 std::vector<RunRow> ReadRunCsv(const std::string& path) {
   std::ifstream in(path);
@@ -343,8 +350,13 @@ std::vector<RunRow> ReadRunCsv(const std::string& path) {
     // Runs before the column: every hypothesis counted as T_loop's to decide.
     row.hypothesis_eligible =
         !column.count("hypothesis_eligible") || integer_of("hypothesis_eligible", 1) == 1;
-    for (const auto& [name, images] : {std::pair{"matched_images", &row.matched_images},
-                                       std::pair{"hypothesis_images", &row.hypothesis_images}}) {
+    // A fleet's map: images of another robot's place are that robot's.
+    if (column.count("matched_robot")) row.matched_robot = text("matched_robot");
+    if (column.count("hypothesis_robot")) row.hypothesis_robot = text("hypothesis_robot");
+    for (const auto& [name, images, robot] :
+         {std::tuple{"matched_images", &row.matched_images, &row.matched_robot},
+          std::tuple{"hypothesis_images", &row.hypothesis_images, &row.hypothesis_robot}}) {
+      if (!robot->empty()) continue;
       for (ImageIndex image : *images) {
         if (image >= row.image) throw fail(name, "names an image not seen before this one");
       }

@@ -17,7 +17,8 @@ struct FleetTable {
   std::vector<const char*> indexes;  // column lists, each after `robot`
 };
 
-// The SQLite map's tables (ltm_database.cc, ltm_images.cc, ltm_loop_closures.cc, ltm_edits.cc)
+// The SQLite map's tables (ltm_database.cc, ltm_images.cc, ltm_loop_closures.cc, ltm_edits.cc,
+// ltm_foreign_places.cc)
 // with INTEGER as BIGINT, REAL as DOUBLE PRECISION, BLOB as BYTEA; SQLite's implicit rowid of
 // loop_closures and the edits' id are identities (unique over the fleet).
 const std::vector<FleetTable>& Tables() {
@@ -74,6 +75,11 @@ const std::vector<FleetTable>& Tables() {
        " time DOUBLE PRECISION NOT NULL",
        "id",
        {}},
+      {"foreign_places",
+       "location_id BIGINT NOT NULL, origin_robot TEXT NOT NULL, origin_location BIGINT NOT NULL,"
+       " origin_images TEXT NOT NULL, imported_image BIGINT NOT NULL",
+       "location_id",
+       {"origin_robot, origin_location"}},
   };
   return tables;
 }

@@ -257,6 +257,7 @@ void LongTermMemory::AddLink(LocationId from, LocationId to, bool loop_closure) 
 
 void LongTermMemory::RecordLoopClosure(const LoopClosureRecord& record) { Enqueue(record); }
 void LongTermMemory::RecordImage(const MapImage& image) { Enqueue(image); }
+void LongTermMemory::RecordForeignPlace(const ForeignPlace& place) { Enqueue(place); }
 
 void LongTermMemory::StoreAppearance(LocationId id, std::vector<uint32_t> entries) {
   Enqueue(AppearanceOp{id, std::move(entries)});
@@ -504,6 +505,8 @@ void LongTermMemory::Apply(LtmDatabase& database, const Operation& operation) {
     database.WriteLoopClosure(*record);
   } else if (const auto* image = std::get_if<MapImage>(&operation)) {
     database.WriteImage(*image);
+  } else if (const auto* place = std::get_if<ForeignPlace>(&operation)) {
+    database.WriteForeignPlace(*place);
   } else if (const auto* info = std::get_if<InfoOp>(&operation)) {
     database.WriteInfo(info->key, info->value);
   } else if (const auto* checkpoint = std::get_if<CheckpointData>(&operation)) {

@@ -111,6 +111,8 @@ class LongTermMemory {
   // The LTM location `from` gains a link to `to` (a loop closure made in memory reached it).
   void AddLink(LocationId from, LocationId to, bool loop_closure);
   void RecordLoopClosure(const LoopClosureRecord& record);
+  // A place of another robot imported into the map (fleet_places.h): where it came from.
+  void RecordForeignPlace(const ForeignPlace& place);
   // An image Process() was given: its name, time stamp and session (ltm_images.cc).
   void RecordImage(const MapImage& image);
   // Retrieval by appearance: a new location's description, and new vocabulary entries from
@@ -191,9 +193,9 @@ class LongTermMemory {
     std::vector<WordId> words;
     std::vector<unsigned char> rows;
   };
-  using Operation =
-      std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
-                   LoopClosureRecord, InfoOp, CheckpointData, AppearanceOp, VocabularyOp, MapImage>;
+  using Operation = std::variant<StoreLocation, StoreWordOp, ReplaceWordOp, RedirectOp, AddLinkOp,
+                                 LoopClosureRecord, InfoOp, CheckpointData, AppearanceOp,
+                                 VocabularyOp, MapImage, ForeignPlace>;
   struct Queued {
     long long sequence;
     size_t bytes;

@@ -52,6 +52,7 @@ LtmDatabase::LtmDatabase(const std::string& path, Mode mode)
   CreateAppearanceTables();
   CreateImageTable();
   CreateLoopClosurePoseTable();
+  CreateForeignPlaceTable();
 }
 
 void LtmDatabase::CreateAppearanceTables() {

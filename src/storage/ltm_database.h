@@ -112,6 +112,8 @@ class LtmDatabase {
   // to write; read-only, they read as empty.
   void WriteImage(const MapImage& image);
   std::vector<MapImage> ReadImages();
+  // A fleet's map: robot `robot`'s images (none on a file).
+  std::vector<MapImage> ReadImagesOf(const std::string& robot);
   std::vector<MapSession> ReadSessions();
   // The image of a location's signature (Signature::image), kNoImage when not recorded.
   void WriteView(const Location& location);
@@ -126,7 +128,12 @@ class LtmDatabase {
   // The descriptors the map holds of location `id`'s words (those that left the dictionary), in
   // one query: ReadWord for each word was a round trip each to a server (300 a location).
   std::unordered_map<WordId, std::vector<unsigned char>> ReadSignatureDescriptors(LocationId id);
+  // Loop closures with a foreign place name its robot (match_robot; ltm_foreign_places.cc).
   std::vector<LoopClosureRecord> ReadLoopClosures();
+  // Places imported from other robots (maps made before the table get it when opened to write;
+  // read-only, they read as none).
+  void WriteForeignPlace(const ForeignPlace& place);
+  std::vector<ForeignPlace> ReadForeignPlaces();
   // Corrections of the loop closures (loop_closure_edits.h), in the order made; none before the
   // first.
   void CreateEditTable();
@@ -173,6 +180,7 @@ class LtmDatabase {
   void CreateAppearanceTables();
   void CreateImageTable();
   void CreateLoopClosurePoseTable();
+  void CreateForeignPlaceTable();
   bool HasTable(const std::string& name);
   // Whether the map holds exactly `signature` as location `id`'s words (WriteLocation).
   bool StoredSignatureIs(LocationId id, const Signature& signature);
@@ -190,6 +198,7 @@ class LtmDatabase {
   std::optional<bool> has_views_;         // the location_views table, once looked for
   std::optional<bool> has_whole_images_;  // the whole_images table
   std::optional<bool> has_poses_;         // the loop_closure_poses table
+  std::optional<bool> has_foreign_;       // the foreign_places table
 };
 
 }  // namespace memloop

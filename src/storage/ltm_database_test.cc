@@ -18,6 +18,18 @@
 namespace memloop {
 namespace {
 
+MapLoopClosure Loop(ImageIndex query, ImageIndex match, LocationId query_location,
+                    LocationId match_location, double probability, LoopClosurePose pose = {}) {
+  MapLoopClosure loop;
+  loop.query_image = query;
+  loop.match_image = match;
+  loop.query_location = query_location;
+  loop.match_location = match_location;
+  loop.probability = probability;
+  loop.pose = std::move(pose);
+  return loop;
+}
+
 using testing::ReadBytes;
 
 Location SampleLocation() {
@@ -55,7 +67,7 @@ TEST(LtmDatabaseTest, RoundTrip) {
     database.Begin();
     database.WriteLocation(SampleLocation());
     database.WriteWord(40, testing::FloatBytes({1.5f, -2.0f}));
-    database.WriteLoopClosure({41, 3, 42, 4, 0.25, {}, 0});
+    database.WriteLoopClosure(Loop(41, 3, 42, 4, 0.25));
     database.WriteInfo("param.memory.stm_size", "25");
     database.Commit();
   }
@@ -93,9 +105,9 @@ TEST(LtmDatabaseTest, LoopClosurePosesAreKeptWithTheirLoopClosure) {
   unposed.reason = "3 inliers";
   {
     LtmDatabase database(path, LtmDatabase::Mode::kCreate);
-    database.WriteLoopClosure({10, 2, 11, 3, 0.5, posed, 0});
-    database.WriteLoopClosure({12, 4, 13, 5, 0.4, unposed, 0});
-    database.WriteLoopClosure({14, 6, 15, 7, 0.3, {}, 0});  // intrinsics unknown: nothing kept
+    database.WriteLoopClosure(Loop(10, 2, 11, 3, 0.5, posed));
+    database.WriteLoopClosure(Loop(12, 4, 13, 5, 0.4, unposed));
+    database.WriteLoopClosure(Loop(14, 6, 15, 7, 0.3));  // intrinsics unknown: nothing kept
   }
   LtmDatabase database(path, LtmDatabase::Mode::kRead);
   const auto loops = database.ReadLoopClosures();

@@ -1,6 +1,7 @@
 // The map's images (name, time stamp, session) as LtmDatabase stores them: what a resumed run
 // checks its input against, `memloop inspect` lists by session and `memloop export` gives a
 // back-end with each loop closure.
+#include "storage/fleet_schema.h"
 #include "storage/ltm_database.h"
 
 namespace memloop {
@@ -94,6 +95,17 @@ std::vector<MapImage> LtmDatabase::ReadImages() {
   std::vector<MapImage> images;
   if (!HasTable("images")) return images;
   auto& query = Cached("SELECT image, session, name, stamp FROM images ORDER BY image");
+  while (query.Step()) images.push_back(ImageOf(query, 0));
+  query.Reset();
+  return images;
+}
+
+std::vector<MapImage> LtmDatabase::ReadImagesOf(const std::string& robot) {
+  std::vector<MapImage> images;
+  if (!on_server_) return images;
+  auto& query = Cached(std::string("SELECT image, session, name, stamp FROM ") + kFleetSchema +
+                       ".images WHERE robot = ? ORDER BY image");
+  query.Bind(1, robot);
   while (query.Step()) images.push_back(ImageOf(query, 0));
   query.Reset();
   return images;

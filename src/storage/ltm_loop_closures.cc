@@ -70,6 +70,14 @@ std::vector<LoopClosureRecord> LtmDatabase::ReadLoopClosures() {
     records.push_back(std::move(record));
   }
   query.Reset();
+  const std::vector<ForeignPlace> foreign = ReadForeignPlaces();
+  if (foreign.empty()) return records;
+  std::unordered_map<LocationId, const ForeignPlace*> by_location;
+  for (const ForeignPlace& place : foreign) by_location[place.location] = &place;
+  for (LoopClosureRecord& record : records) {
+    const auto place = by_location.find(record.match_location);
+    if (place != by_location.end()) record.match_robot = place->second->robot;
+  }
   return records;
 }
 

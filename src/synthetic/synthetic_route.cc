@@ -1,5 +1,6 @@
 #include "memloop/synthetic_route.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,15 +20,37 @@ constexpr int kDetourGap = 4;  // steps: more than two image widths, no overlap
 
 }  // namespace
 
-SyntheticRoute::SyntheticRoute(const SyntheticRouteOptions& options) : options_(options) {
+std::vector<RouteSegment> SyntheticRoute::DefaultPlan(const SyntheticRouteOptions& options) {
+  const int detour = options.detour_frames;
+  // The second detour goes on to new places: a gap of kDetourGap steps from the first one's end.
+  return {{true, 0, options.lap_frames},
+          {false, 0, detour},
+          {true, 0, options.lap_frames},
+          {false, detour + kDetourGap, detour},
+          {true, 0, options.third_lap_frames}};
+}
+
+int SyntheticRoute::DetourSteps(const std::vector<RouteSegment>& plan) {
+  int steps = 0;
+  for (const RouteSegment& segment : plan) {
+    if (!segment.in_loop) steps = std::max(steps, segment.first_step + segment.frames);
+  }
+  return steps;
+}
+
+SyntheticRoute::SyntheticRoute(const SyntheticRouteOptions& options)
+    : SyntheticRoute(options, DefaultPlan(options), 0, 2 * options.detour_frames + kDetourGap) {}
+
+SyntheticRoute::SyntheticRoute(const SyntheticRouteOptions& options,
+                               const std::vector<RouteSegment>& plan, int robot, int detour_steps)
+    : options_(options), robot_(robot) {
   cv::RNG rng(static_cast<uint64_t>(options.seed));
   const int view_width = options.image_width;
   const int world_height = options.image_height + 60;  // room for vertical jitter
   loop_length_ = options.lap_frames * options.step_px;
   const int loop_width = static_cast<int>(std::ceil(loop_length_));
   const int wrap_width = 2 * view_width;
-  const int detour_width =
-      static_cast<int>((2 * options.detour_frames + kDetourGap) * options.step_px) + wrap_width;
+  const int detour_width = static_cast<int>(detour_steps * options.step_px) + wrap_width;
 
   const cv::Mat loop = MakeTexture(loop_width, world_height, rng, options.facades);
   const cv::Mat detour = MakeTexture(detour_width, world_height, rng, options.facades);
@@ -36,18 +59,22 @@ SyntheticRoute::SyntheticRoute(const SyntheticRouteOptions& options) : options_(
   loop.colRange(0, wrap_width).copyTo(world_.colRange(loop_width, loop_width + wrap_width));
   detour.copyTo(world_.colRange(loop_width + wrap_width, world_.cols));
 
-  const auto add_frame = [&](double x, bool in_loop, int visit) {
-    const ViewJitter j = ViewJitter::Random(rng);
-    frames_.push_back({x, in_loop, visit, j.dx, j.dy, j.scale, j.angle_degrees, j.gain, j.bias});
-  };
-  for (int n = 0; n < options.lap_frames; ++n) add_frame(n * options.step_px, true, 0);
-  for (int n = 0; n < options.detour_frames; ++n) add_frame(n * options.step_px, false, -1);
-  for (int n = 0; n < options.lap_frames; ++n) add_frame(n * options.step_px, true, 1);
-  // The second detour goes on to new places: a gap of kDetourGap steps from the first one's end.
-  for (int n = options.detour_frames; n < 2 * options.detour_frames; ++n) {
-    add_frame((n + kDetourGap) * options.step_px, false, -1);
+  // Robot 0's jitter follows the world's draws (the single route's images); another robot's its
+  // own, so that two robots at one place see it differently.
+  cv::RNG robot_rng(static_cast<uint64_t>(options.seed) * 7919u + static_cast<uint64_t>(robot));
+  cv::RNG& jitter = robot == 0 ? rng : robot_rng;
+  int visit = 0;
+  for (const RouteSegment& segment : plan) {
+    if (!segment.in_loop && segment.first_step + segment.frames > detour_steps) {
+      throw Error("a route's detour goes past the world's");
+    }
+    for (int n = segment.first_step; n < segment.first_step + segment.frames; ++n) {
+      const ViewJitter j = ViewJitter::Random(jitter);
+      frames_.push_back({n * options.step_px, segment.in_loop, segment.in_loop ? visit : -1, j.dx,
+                         j.dy, j.scale, j.angle_degrees, j.gain, j.bias});
+    }
+    visit += segment.in_loop;
   }
-  for (int n = 0; n < options.third_lap_frames; ++n) add_frame(n * options.step_px, true, 2);
 }
 
 cv::Mat SyntheticRoute::Render(int index) const {
@@ -57,7 +84,8 @@ cv::Mat SyntheticRoute::Render(int index) const {
   const ViewJitter jitter{frame.dx,   frame.dy,  frame.scale, frame.angle_degrees,
                           frame.gain, frame.bias};
   return RenderView(world_, x, 30, jitter, options_.image_width, options_.image_height,
-                    static_cast<uint64_t>(options_.seed) * 1000003u + index);
+                    static_cast<uint64_t>(options_.seed) * 1000003u + index +
+                        static_cast<uint64_t>(robot_) * 100003u);
 }
 
 cv::Mat SyntheticRoute::RenderGray(int index) const {
@@ -77,6 +105,15 @@ bool SyntheticRoute::IsLoop(int query, int match) const {
   // frames, back where it started, are.
   if (a.visit == b.visit) return direct > same_place && around <= same_place;
   return std::min(direct, around) <= same_place;
+}
+
+bool SyntheticRoute::SamePlace(int frame, const SyntheticRoute& other, int other_frame) const {
+  const Frame& a = frames_.at(frame);
+  const Frame& b = other.frames_.at(other_frame);
+  if (!a.in_loop || !b.in_loop) return false;
+  const double direct = std::fabs((a.x + a.dx) - (b.x + b.dx));
+  return std::min(direct, loop_length_ - direct) <=
+         options_.same_place_fraction * options_.image_width;
 }
 
 GroundTruth SyntheticRoute::Truth() const {

@@ -105,15 +105,6 @@ constexpr double kFirstStamp = 1000;  // seconds: the generated camera's clock a
 constexpr double kFramePeriod = 0.1;  // 10 Hz
 constexpr const char* kBagTopic = "/camera/image_raw";
 
-std::string FrameName(GeneratedLayout layout, int index) {
-  const std::string file = std::to_string(index + 1) + ".png";
-  if (layout == GeneratedLayout::kImages) return file;
-  if (layout == GeneratedLayout::kTum) return "rgb/" + file;
-  char name[96];
-  std::snprintf(name, sizeof(name), "%s %.6f", kBagTopic, GeneratedStamp(index));
-  return name;  // as the bag reader names a frame: topic and recording time
-}
-
 void CreateFolder(const std::string& folder) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
@@ -123,6 +114,15 @@ void CreateFolder(const std::string& folder) {
 }  // namespace
 
 double GeneratedStamp(int index) { return kFirstStamp + kFramePeriod * index; }
+
+std::string FrameName(GeneratedLayout layout, int index) {
+  const std::string file = std::to_string(index + 1) + ".png";
+  if (layout == GeneratedLayout::kImages) return file;
+  if (layout == GeneratedLayout::kTum) return "rgb/" + file;
+  char name[96];
+  std::snprintf(name, sizeof(name), "%s %.6f", kBagTopic, GeneratedStamp(index));
+  return name;  // as the bag reader names a frame: topic and recording time
+}
 
 void WriteSequence(const std::string& folder, int size, const std::function<cv::Mat(int)>& render,
                    const std::vector<std::pair<int, int>>& pairs,

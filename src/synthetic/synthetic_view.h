@@ -32,6 +32,9 @@ cv::Mat RenderView(const cv::Mat& world, double x, double y, const ViewJitter& j
 // The time stamp of generated frame `index`, in seconds: 10 Hz from 1000 s.
 double GeneratedStamp(int index);
 
+// The name a run gives generated frame `index` in `layout` ("12.png" in an image folder).
+std::string FrameName(GeneratedLayout layout, int index);
+
 // Writes frame i from `render(i)` into `folder` in `layout` (generated_layout.h), and
 // `folder`/ground_truth_pairs.csv ("query,match" by the names a run gives the frames). Throws
 // InputError naming the file that cannot be written. `written(n)` after each image, if given.

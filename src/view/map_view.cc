@@ -81,6 +81,9 @@ MapView::Loaded MapView::Load() const {
   }
   loaded.edits = database.ReadEdits();
   loaded.detected = database.ReadLoopClosures();
+  for (ForeignPlace& place : database.ReadForeignPlaces()) {
+    loaded.foreign[place.location] = std::move(place);
+  }
   database.Commit();
   return loaded;
 }
@@ -204,12 +207,19 @@ json MapView::Location(LocationId id) const {
   for (const MapLoopClosure& loop : edited) {
     const bool here =
         std::count(location->images.begin(), location->images.end(), loop.query_image) ||
-        std::count(location->images.begin(), location->images.end(), loop.match_image);
+        (loop.match_robot.empty()
+             ? std::count(location->images.begin(), location->images.end(), loop.match_image) > 0
+             : loop.match_location == id);
     if (here)
       loops.push_back(
           LoopJson(loop, loop.added_by_edit ? "added" : "detected", loop.added_by_edit));
   }
+  // Another robot's place: that robot's name and images.
+  const auto foreign = loaded_.foreign.find(id);
   return {{"id", id},
+          {"robot", foreign == loaded_.foreign.end() ? json(nullptr) : json(foreign->second.robot)},
+          {"robot_images",
+           foreign == loaded_.foreign.end() ? json::array() : json(foreign->second.images)},
           {"in", where},
           {"weight", location->weight},
           {"words", location->signature.words.size()},
@@ -232,12 +242,16 @@ json MapView::LoopJson(const MapLoopClosure& loop, const std::string& state, lon
     if (found != loaded_.holder.end()) return json(found->second);
     return recorded != kNoLocation ? json(recorded) : json(nullptr);
   };
+  // Another robot's place (a fleet's map): its image is that robot's, its location never merged.
+  const bool foreign = !loop.match_robot.empty();
   return {{"query_image", loop.query_image},
           {"match_image", loop.match_image},
+          {"match_robot", foreign ? json(loop.match_robot) : json(nullptr)},
           {"query_name", name(loop.query_image)},
-          {"match_name", name(loop.match_image)},
+          {"match_name", foreign ? std::string() : name(loop.match_image)},
           {"query_location", holder(loop.query_image, loop.query_location)},
-          {"match_location", holder(loop.match_image, loop.match_location)},
+          {"match_location",
+           foreign ? json(loop.match_location) : holder(loop.match_image, loop.match_location)},
           {"probability", loop.probability},
           {"pose", PoseJson(loop.pose)},
           {"state", state},

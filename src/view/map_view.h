@@ -50,7 +50,8 @@ class MapView {
     std::vector<MapImage> images;             // by index
     std::map<ImageIndex, LocationId> holder;  // LTM and the last checkpoint
     std::vector<LoopClosureEdit> edits;
-    std::vector<MapLoopClosure> detected;  // as the detector recorded them
+    std::vector<MapLoopClosure> detected;        // as the detector recorded them
+    std::map<LocationId, ForeignPlace> foreign;  // a fleet's map: other robots' places, by id
   };
   Loaded Load() const;
   const MapImage* FindImage(ImageIndex index) const;  // in loaded_, by index; mutex_ held

@@ -8,6 +8,7 @@
 #include "command_files.h"
 #include "commands.h"
 #include "memloop/evaluation.h"
+#include "memloop/fleet_routes.h"
 #include "memloop/place_sequence.h"
 #include "memloop/synthetic_route.h"
 #include "progress.h"
@@ -102,6 +103,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string folder;
     std::string layout = "images";
     PlaceSequenceOptions places;
+    int robots = 1;
     int realtime_priority = kUsualScheduling;
     double pace_hz = 0;
   };
@@ -167,8 +169,29 @@ void AddDemoCommand(CLI::App& app) {
       ->check(CLI::IsMember({"images", "tum", "ros2-bag"}))
       ->capture_default_str();
   CLI::Option* generate_places = AddPlaceOptions(*generate, &arguments->places);
-  generate->callback([arguments, generate_places] {
+  CLI::Option* generate_robots =
+      generate
+          ->add_option("--robots", arguments->robots,
+                       "Routes of this many robots over one world, FOLDER/a, FOLDER/b, ... (images "
+                       "and their own ground_truth_pairs.csv), with FOLDER/fleet_pairs.csv: the "
+                       "places two robots share")
+          ->check(CLI::Range(2, 26));
+  generate_robots->excludes(generate_places);
+  generate->callback([arguments, generate_places, generate_robots] {
     const GeneratedLayout layout = ParseGeneratedLayout(arguments->layout);
+    if (generate_robots->count() > 0) {
+      if (layout != GeneratedLayout::kImages) {
+        throw CLI::ValidationError("--robots", "writes image folders only (--layout images)");
+      }
+      SyntheticRouteOptions route_options;
+      route_options.seed = arguments->seed;
+      const FleetRoutes fleet(arguments->robots, route_options);
+      int images = 0;
+      for (int robot = 0; robot < fleet.robots(); ++robot) images += fleet.route(robot).size();
+      Progress progress(images, "images written");
+      fleet.Write(arguments->folder, [&](int written) { progress.Update(written); });
+      return;
+    }
     if (generate_places->count() > 0) {
       arguments->places.seed = arguments->seed;
       const PlaceSequence places(arguments->places);

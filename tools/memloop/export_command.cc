@@ -48,6 +48,9 @@ nlohmann::json Json(const std::vector<ExportedLoopClosure>& loops,
     rows.push_back(
         {{"query", ImageJson(loop.query, loop.loop.query_location)},
          {"match", ImageJson(loop.match, loop.loop.match_location)},
+         // A fleet's map: the robot whose image `match` is (null: this map's own).
+         {"match_robot", loop.loop.match_robot.empty() ? nlohmann::json(nullptr)
+                                                       : nlohmann::json(loop.loop.match_robot)},
          {"hypothesis_value", loop.loop.probability},
          {"added_by_edit", loop.loop.added_by_edit},  // 0: detected (memloop view's edits)
          {"views", {g.query_view, g.match_view}},

@@ -18,7 +18,9 @@ nlohmann::json Json(const MapInfo& info) {
                      {"query_location", loop.query_location},
                      {"match_location", loop.match_location},
                      {"probability", loop.probability},
-                     {"added_by_edit", loop.added_by_edit}});
+                     {"added_by_edit", loop.added_by_edit},
+                     {"match_robot", loop.match_robot.empty() ? nlohmann::json(nullptr)
+                                                              : nlohmann::json(loop.match_robot)}});
   }
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [name, value] : info.parameters) parameters[name] = value;
@@ -51,6 +53,7 @@ nlohmann::json Json(const MapInfo& info) {
           {"loop_closures", loops},
           {"edits", info.edits},
           {"rejected_loop_closures", info.rejected_loop_closures},
+          {"foreign_places", info.foreign_places},
           {"parameters", parameters}};
 }
 
@@ -71,6 +74,9 @@ void PrintText(const MapInfo& info) {
   }
   std::printf("links: %lld neighbour, %lld loop closure\n", info.neighbour_links,
               info.loop_closure_links);
+  for (const auto& [robot, places] : info.foreign_places) {
+    std::printf("places of robot %s: %lld\n", robot.c_str(), places);
+  }
   std::printf("sessions: %zu\n", info.sessions.size());
   for (const MapSession& session : info.sessions) {
     std::printf("  session %d: images %d to %d (%lld), '%s' to '%s'", session.id,
@@ -88,8 +94,9 @@ void PrintText(const MapInfo& info) {
   }
   std::printf("\n");
   for (const MapLoopClosure& loop : info.loop_closures) {
-    std::printf("  image %d -> image %d (location %d -> %d), ", loop.query_image, loop.match_image,
-                loop.query_location, loop.match_location);
+    const std::string robot = loop.match_robot.empty() ? "" : "robot " + loop.match_robot + " ";
+    std::printf("  image %d -> %simage %d (location %d -> %d), ", loop.query_image, robot.c_str(),
+                loop.match_image, loop.query_location, loop.match_location);
     if (loop.added_by_edit > 0) {
       std::printf("added by edit %lld\n", loop.added_by_edit);
     } else {

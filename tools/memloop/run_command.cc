@@ -38,6 +38,7 @@ void AddRunCommand(CLI::App& app) {
     std::string input;
     std::string database;
     std::string robot;
+    bool fleet_catch_up = false;
     std::string out;
     std::vector<std::string> assignments;
     std::string config;
@@ -100,6 +101,9 @@ void AddRunCommand(CLI::App& app) {
                   "With --db postgresql://HOST/DBNAME (a fleet's map, docs/fleet.md): the robot, "
                   "whose database role the run connects as")
       ->needs(database);
+  run->add_flag("--fleet-catch-up", arguments->fleet_catch_up,
+                "With --robot: the places other robots have stored so far join the map before the "
+                "first image (then memory.fleet_imports an image)");
   run->add_flag("--resume", arguments->resume,
                 "Go on with the map in --db from its last checkpoint: images after the one it "
                 "holds are processed, --out is continued, parameters are the map's (--set may "
@@ -158,6 +162,10 @@ void AddRunCommand(CLI::App& app) {
     session.input = arguments->input;
     session.realtime_priority = arguments->realtime_priority;
     session.pace_hz = arguments->pace_hz;
+    session.fleet_catch_up = arguments->fleet_catch_up;
+    if (session.fleet_catch_up && arguments->robot.empty()) {
+      throw CLI::ValidationError("--fleet-catch-up", "needs a fleet's map: --robot");
+    }
     session.inputs = RunInputs(arguments->input, sequence_options);
     for (NamedPath& file : FileIfGiven(arguments->config, "the parameter file (--config)")) {
       session.inputs.push_back(std::move(file));

@@ -207,6 +207,10 @@ SessionReport RunSession(ImageSequence& sequence, const Options& options,
                                              session.resume        ? MapMode::kResume
                                              : session.new_session ? MapMode::kNewSession
                                                                    : MapMode::kNew);
+  if (session.fleet_catch_up) {
+    const size_t places = detector->CatchUpWithFleet();
+    std::cout << "fleet: " << places << " places of other robots joined the map" << std::endl;
+  }
   std::unique_ptr<RunCsvWriter> csv;
   if (localizing) {
     std::cout << "localizing against " << database_path << " (" << detector->images_processed()

@@ -31,7 +31,8 @@ struct SessionOptions {
   std::string input;                // names the input in errors ("" for a camera)
   // 1-99: the per-image threads under SCHED_FIFO at it; any other value given is refused.
   int realtime_priority = kUsualScheduling;
-  double pace_hz = 0;  // > 0: frames handed over at most this many a second
+  double pace_hz = 0;           // > 0: frames handed over at most this many a second
+  bool fleet_catch_up = false;  // Detector::CatchUpWithFleet before the first image
   // The files the command reads (its input, --config): neither the CSV nor the map may be one.
   std::vector<NamedPath> inputs;
 };

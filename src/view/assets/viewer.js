@@ -51,6 +51,12 @@ function show(html) {
 
 function imageLabel(index, name) { return name ? `${esc(name)} <span class="muted">#${index}</span>` : `#${index}`; }
 
+// A loop closure's match: another robot's image (a fleet's map) has no picture here.
+function matchLabel(loop) {
+  return loop.match_robot ? `robot ${esc(loop.match_robot)} #${loop.match_image}` : imageLabel(loop.match_image, loop.match_name);
+}
+function matchThumb(loop) { return loop.match_robot ? "" : thumb(loop.match_image, loop.match_name); }
+
 function thumb(index, name) {
   return summary.images_folder
     ? `<img class="thumb" loading="lazy" src="/api/thumbnails/${index}" alt="${esc(name || index)}">`
@@ -111,7 +117,7 @@ async function loopsPage(offset) {
     html += `<tr class="loop" id="loop-${loop.n}"><td><a href="#/loop/${loop.n}">${loop.n}</a></td>
       <td class="state-${loop.state}">${loop.state}</td>
       <td><a href="#/loop/${loop.n}">${thumb(loop.query_image, loop.query_name)}</a>${imageLabel(loop.query_image, loop.query_name)}</td>
-      <td><a href="#/loop/${loop.n}">${thumb(loop.match_image, loop.match_name)}</a>${imageLabel(loop.match_image, loop.match_name)}</td>
+      <td><a href="#/loop/${loop.n}">${matchThumb(loop)}</a>${matchLabel(loop)}</td>
       <td>${loop.state === "added" ? "by hand" : loop.probability.toFixed(3)}</td><td>${loopButtons(loop)}</td></tr>`;
   }
   return html + "</table>";
@@ -129,12 +135,12 @@ async function loopPage(n) {
   const page = await api(`/api/loop_closures?offset=${n}&limit=1`);
   const loop = page.loop_closures[0];
   if (!loop) return `<p class="error">No loop closure ${n}.</p>`;
-  const figure = (index, name, location) => `<figure>${summary.images_folder ? `<img src="/api/images/${index}" alt="${esc(name || index)}">` : ""}
-    <figcaption>${imageLabel(index, name)}, location <a href="#/location/${location}">${location}</a></figcaption></figure>`;
+  const figure = (index, name, location, robot) => `<figure>${summary.images_folder && !robot ? `<img src="/api/images/${index}" alt="${esc(name || index)}">` : ""}
+    <figcaption>${robot ? `robot ${esc(robot)} #${index}` : imageLabel(index, name)}, location <a href="#/location/${location}">${location}</a></figcaption></figure>`;
   return `<h1>Loop closure ${n} <span class="state-${loop.state}">${loop.state}</span></h1>
     <p>${loop.state === "added" ? `added by hand (edit ${loop.edit})` : `accepted at value ${loop.probability.toFixed(3)}`}${loop.state === "rejected" ? `, rejected by edit ${loop.edit}` : ""}.
     Geometry: ${poseText(loop.pose)}.</p><p>${loopButtons(loop)}</p>
-    <div class="pair">${figure(loop.query_image, loop.query_name, loop.query_location)}${figure(loop.match_image, loop.match_name, loop.match_location)}</div>
+    <div class="pair">${figure(loop.query_image, loop.query_name, loop.query_location)}${figure(loop.match_image, loop.match_name, loop.match_location, loop.match_robot)}</div>
     <p>${n > 0 ? `<a href="#/loop/${n - 1}">previous</a> · ` : ""}${n + 1 < page.total ? `<a href="#/loop/${n + 1}">next</a>` : ""}</p>`;
 }
 
@@ -155,6 +161,7 @@ function drawMatrix(loops) {
   context.strokeStyle = "#ccc";
   context.beginPath(); context.moveTo(at(0), at(0)); context.lineTo(at(last), at(last)); context.stroke();
   const colour = {detected: "#1b6e2f", added: "#1d5fa8", rejected: "#a61b1b"};
+  loops = loops.filter(loop => !loop.match_robot);  // this map's images only
   for (const loop of loops) {
     context.fillStyle = colour[loop.state];
     context.fillRect(at(loop.match_image) - 2, at(loop.query_image) - 2, 5, 5);
@@ -212,7 +219,7 @@ function drawGraph(positions, loops) {
   const drawn = [];
   for (const loop of loops) {
     const a = at.get(loop.query_image), b = at.get(loop.match_image);
-    if (!a || !b) continue;
+    if (!a || !b || loop.match_robot) continue;
     const [x1, y1] = xy(a), [x2, y2] = xy(b);
     context.strokeStyle = colour[loop.state];
     context.beginPath(); context.moveTo(x1, y1); context.lineTo(x2, y2); context.stroke();
@@ -252,8 +259,11 @@ function chooser() {
 
 async function locationPage(id) {
   const place = await api(`/api/locations/${id}`);
+  const origin = place.robot
+    ? `a place of robot ${esc(place.robot)} (its images ${place.robot_images.map(i => `#${i}`).join(", ")})`
+    : `view (keypoints) of image ${place.view_image}`;
   let html = `<h1>Location ${place.id}</h1><p>${esc(place.in)}; weight ${place.weight}; ${place.words} words;
-    view (keypoints) of image ${place.view_image}.</p><div class="grid">`;
+    ${origin}.</p><div class="grid">`;
   for (const image of place.images) {
     html += `<figure>${thumb(image.index, image.name)}<figcaption>${imageLabel(image.index, image.name)}</figcaption></figure>`;
   }
@@ -261,7 +271,7 @@ async function locationPage(id) {
   html += `</div><p>Neighbours: ${links(place.neighbours)}. Loop closure links: ${links(place.loop_closure_links)}.</p>
     <h2>Its loop closures</h2><table>`;
   for (const loop of place.loop_closures) {
-    html += `<tr><td class="state-${loop.state}">${loop.state}</td><td>${imageLabel(loop.query_image, loop.query_name)} → ${imageLabel(loop.match_image, loop.match_name)}</td>
+    html += `<tr><td class="state-${loop.state}">${loop.state}</td><td>${imageLabel(loop.query_image, loop.query_name)} → ${matchLabel(loop)}</td>
       <td>${loop.state === "added" ? "by hand" : loop.probability.toFixed(3)}</td><td>${poseText(loop.pose)}</td></tr>`;
   }
   return html + "</table>";
