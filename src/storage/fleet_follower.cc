@@ -140,6 +140,9 @@ void FleetFollower::Poll(PostgresConnection& connection, SqlStatement& list, Sql
                          SqlStatement& signature) {
   // One snapshot: a place and its words as one committed checkpoint of its robot left them.
   connection.Execute("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY");
+  // A lost connection throws at once (no waiting for the server here: the next poll connects
+  // again), so that the thread stops promptly whatever the server's state.
+  connection.SetInTransaction(true);
   std::vector<std::pair<std::string, LocationId>> unseen;
   while (list.Step()) {
     std::pair<std::string, LocationId> key(list.Text(0), static_cast<LocationId>(list.Int(1)));
@@ -163,6 +166,7 @@ void FleetFollower::Poll(PostgresConnection& connection, SqlStatement& list, Sql
     waiting_.push_back(std::move(place));
   }
   connection.Execute("COMMIT");
+  connection.SetInTransaction(false);
   std::lock_guard<std::mutex> lock(mutex_);
   last_poll_complete_ = complete;
 }
