@@ -10,6 +10,8 @@
 #include "memloop/errors.h"
 #include "storage/fleet_schema.h"
 #include "storage/postgres_connection.h"
+#include "util/thread_name.h"
+#include "util/thread_priority.h"
 
 namespace memloop {
 namespace {
@@ -105,6 +107,8 @@ std::vector<std::string> FleetFollower::TakeNotices() {
 }
 
 void FleetFollower::Run() {
+  StepBelowRealTimePriority();  // behind the per-image threads (thread_priority.h)
+  NameThisThread("fleet");
   std::unique_ptr<PostgresConnection> connection;
   std::unique_ptr<FleetQueries> queries;
   for (;;) {

@@ -218,6 +218,8 @@ class LongTermMemory {
   // Takes the location read for Retrieve out of LTM; throws when it could not be read.
   std::optional<Location> TakeOut(LocationId id, std::optional<Location> location);
   void ThrowIfFailedLocked() const;
+  // The error is reported under the map's name: its message without it if it has it already.
+  static std::string WriteFailure(const std::string& path, const std::exception& error);
   // The last sequence the writer may commit now, and how many queued writes that is.
   long long CommittableSequenceLocked() const;
   size_t CommittableCountLocked() const;
