@@ -70,9 +70,9 @@ TEST_F(FleetTest, ThreeRobotsAtOnceCloseLoopsWithEachOthersPlaces) {
   ASSERT_TRUE(WaitForRows(a, dir.File("a.csv"), a_images - 15)) << ReadFile(dir.File("a.log"));
   const pid_t b = run("b", {"--fleet-catch-up"});
   const pid_t c = run("c", {"--fleet-catch-up"});
-  // a, paced, has 15 images (0.75 s) to go: the three run at once.
-  int status = 0;
-  EXPECT_NE(waitpid(a, &status, WNOHANG), a) << "robot a ended before b and c started";
+  // a, paced at 20 Hz, has 15 images (at least 0.75 s) to go: the three run at once. Not
+  // asserted: a test process descheduled that long would see a ended, and no verdict below
+  // depends on it.
   const int b_killed = SignalAfterRows(b, dir.File("b.csv"), 45, SIGKILL);
   EXPECT_EQ(ExitCode(a), 0) << ReadFile(dir.File("a.log"));
   EXPECT_EQ(ExitCode(c), 0) << ReadFile(dir.File("c.log"));
